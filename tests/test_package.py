@@ -62,7 +62,12 @@ def _check_all(module: ModuleType) -> None:
     assert names, f"{module.__name__}.__all__ is empty"
     assert names == sorted(names), f"{module.__name__}.__all__ is not sorted: {names}"
     assert len(set(names)) == len(names), f"{module.__name__}.__all__ has duplicates: {names}"
-    missing = [n for n in names if not hasattr(module, n)]
+    missing = {}
+    for name in names:
+        try:
+            getattr(module, name)
+        except (AttributeError, ImportError) as exc:  # lazy attributes import on first access
+            missing[name] = f"{type(exc).__name__}: {exc}"
     assert not missing, f"{module.__name__}.__all__ names that do not resolve: {missing}"
 
 
