@@ -32,7 +32,7 @@ CONSTRAINTS = str(ROOT / "constraints.txt")
 
 # Read before any import of litellm (otherwise it fetches a cost map from the network at import) and
 # before matplotlib picks an interactive backend.
-ENV = {"LITELLM_LOCAL_MODEL_COST_MAP": "True", "MPLBACKEND": "Agg"}
+ENV = {"LITELLM_LOCAL_MODEL_COST_MAP": "True", "MPLBACKEND": "Agg", "NO_MKDOCS_2_WARNING": "1"}
 
 PLACEHOLDER_MARK = "<!-- audere: placeholder written by `nox -s docs -- --placeholders`; not committed -->"
 
