@@ -14,7 +14,8 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+import shapely
+from pydantic import BaseModel, ConfigDict, Field, field_validator, model_validator
 
 __all__ = ["Circle", "Obstacle", "Polygon", "Rectangle", "Square", "Workspace"]
 
@@ -86,6 +87,27 @@ class Polygon(_Frozen):
 
     kind: Literal["polygon"] = "polygon"
     vertices: tuple[Point, ...] = Field(min_length=3)
+
+    @field_validator("vertices")
+    @classmethod
+    def _simple(cls, vertices: tuple[Point, ...]) -> tuple[Point, ...]:
+        ring = shapely.Polygon(vertices)
+        if ring.convex_hull.area <= 0:
+            raise ValueError(
+                f"polygon vertices must enclose a non-zero area, got {len(vertices)} collinear vertices "
+                f"{_short_points(vertices)}"
+            )
+        if not ring.is_valid:
+            raise ValueError(
+                "polygon vertices must form a simple polygon (edges may not cross or touch), got "
+                f"{shapely.is_valid_reason(ring)} for vertices {_short_points(vertices)}"
+            )
+        return vertices
+
+
+def _short_points(vertices: tuple[Point, ...], limit: int = 6) -> str:
+    text = ", ".join(f"({x:g}, {y:g})" for x, y in vertices[:limit])
+    return "[" + text + (", ...]" if len(vertices) > limit else "]")
 
 
 Obstacle = Annotated[Circle | Square | Rectangle | Polygon, Field(discriminator="kind")]
