@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any, ClassVar, Literal, cast, get_args
 
@@ -35,9 +36,19 @@ IntegrationMethod = Literal["euler", "rk4"]
 
 _METHODS: tuple[str, ...] = get_args(IntegrationMethod)
 
+# The names casadi.Function accepts.
+_CASADI_NAME = re.compile(r"[A-Za-z](?:_?[A-Za-z0-9])*")
+
 # Complex-step size: derivatives come out as Im(g(z + i h e_j)) / h with no subtractive
 # cancellation, so h can be tiny and the result is exact to machine precision.
 _COMPLEX_STEP = 1e-20
+
+
+# A simulation that diverges returns inf/nan entries (visible in the result) instead of emitting
+# floating-point RuntimeWarnings: sampling planners routinely roll out diverging input sequences.
+def _quiet() -> np.errstate:
+    return np.errstate(over="ignore", invalid="ignore", divide="ignore")
+
 
 _METHOD_TEXT = {
     "euler": "explicit Euler: x[k+1] = x[k] + dt * f(x[k], u[k])",
@@ -136,6 +147,10 @@ class Dynamics:
             if rule == "nonnegative" and not number >= 0.0:
                 raise InvalidArgumentError(f"{self.name} parameter {field.name!r} must be >= 0, got {number}")
             object.__setattr__(self, field.name, number)
+
+    def _repr_pretty_(self, printer: Any, cycle: bool) -> None:
+        """Pretty-print as the dataclass repr (parameters only) in IPython and Hypothesis reports."""
+        printer.text(repr(self))
 
     # ------------------------------------------------------------------ the one definition
 
@@ -260,7 +275,8 @@ class Dynamics:
             Time derivative of the state, shape ``(..., n_x)`` (state units per second).
         """
         xa, ua = self._np_pair(x, u)
-        return np.asarray(self._f(xa, ua, NUMPY_OPS), dtype=np.float64)
+        with _quiet():
+            return np.asarray(self._f(xa, ua, NUMPY_OPS), dtype=np.float64)
 
     def step(
         self, x: ArrayLike, u: ArrayLike, dt: float, *, method: IntegrationMethod = "euler"
@@ -286,7 +302,8 @@ class Dynamics:
         step_dt = _check_dt(dt)
         meth = _check_method(method)
         xa, ua = self._np_pair(x, u)
-        return np.asarray(self._advance(xa, ua, step_dt, meth, NUMPY_OPS), dtype=np.float64)
+        with _quiet():
+            return np.asarray(self._advance(xa, ua, step_dt, meth, NUMPY_OPS), dtype=np.float64)
 
     def rollout(
         self, x0: ArrayLike, inputs: ArrayLike, dt: float, *, method: IntegrationMethod = "euler"
@@ -321,9 +338,10 @@ class Dynamics:
         states = np.empty((*batch, horizon + 1, self.n_x), dtype=np.float64)
         x = np.broadcast_to(x0a, (*batch, self.n_x))
         states[..., 0, :] = x
-        for k in range(horizon):
-            x = self._advance(x, ua[..., k, :], step_dt, meth, NUMPY_OPS)
-            states[..., k + 1, :] = x
+        with _quiet():
+            for k in range(horizon):
+                x = self._advance(x, ua[..., k, :], step_dt, meth, NUMPY_OPS)
+                states[..., k + 1, :] = x
         return states
 
     def _np_inputs(self, inputs: ArrayLike) -> NDArray[np.float64]:
@@ -350,7 +368,8 @@ class Dynamics:
             pendulum, the end effector for the arm (see :meth:`describe`).
         """
         xa = self._np_vector(states, name="states", n=self.n_x, names=self.state_names)
-        return np.asarray(self._position(xa, NUMPY_OPS), dtype=np.float64)
+        with _quiet():
+            return np.asarray(self._position(xa, NUMPY_OPS), dtype=np.float64)
 
     # ------------------------------------------------------------------ linearization
 
@@ -362,7 +381,8 @@ class Dynamics:
         z = np.concatenate([xa, ua], axis=-1)
         # Row j of the perturbation block moves component j along the imaginary axis.
         zc = z[..., None, :] + (1j * _COMPLEX_STEP) * np.eye(n)
-        out = fun(zc[..., : self.n_x], zc[..., self.n_x :])
+        with _quiet():
+            out = fun(zc[..., : self.n_x], zc[..., self.n_x :])
         jac = np.swapaxes(np.asarray(out).imag / _COMPLEX_STEP, -1, -2)
         a = np.ascontiguousarray(jac[..., : self.n_x], dtype=np.float64)
         b = np.ascontiguousarray(jac[..., self.n_x :], dtype=np.float64)
@@ -656,8 +676,11 @@ class Dynamics:
         """
         step_dt = _check_dt(dt)
         meth = _check_method(method)
-        if not isinstance(name, str) or not name.isidentifier():
-            raise InvalidArgumentError(f"name must be a valid identifier string, got {name!r}")
+        if not isinstance(name, str) or not _CASADI_NAME.fullmatch(name) or name in ("null", "jac", "hess"):
+            raise InvalidArgumentError(
+                "name must start with a letter and contain only letters, digits and single underscores "
+                f"(and not be 'null', 'jac' or 'hess'), got {name!r}"
+            )
         ca = require("casadi", extra="casadi", purpose="the CasADi dynamics backend")
         x = ca.SX.sym("x", self.n_x)
         u = ca.SX.sym("u", self.n_u)
