@@ -596,9 +596,9 @@ def _draw_notes(ax: Axes, task: AnyTask, report: CheckReport | None) -> None:
         notes.append(("spec", "spec:\n" + _wrap(task.spec, lines=8), "#202020"))
     first = report.first_violation if report is not None else None
     if first is not None:
-        head = f"first violation ({_violation_text(first)})"
-        more = "" if report is None or report.n_violations <= 1 else f" [{report.n_violations} in all]"
-        notes.append(("violation-note", _wrap(f"{head}{more}: {first.message}", lines=7), _VIOLATION))
+        more = "" if report is None or report.n_violations <= 1 else f" ({report.n_violations} in all)"
+        head = _wrap(f"first violation: {_violation_text(first)}{more}", lines=2)
+        notes.append(("violation-note", head + "\n" + _wrap(first.message, lines=6), _VIOLATION))
     y = 0.0  # stacked upwards from the lower right corner of the axes, in points
     for gid, text, colour in reversed(notes):
         ax.annotate(
