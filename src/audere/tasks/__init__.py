@@ -9,7 +9,16 @@ Build a task directly, load it from a file, or generate one with :mod:`audere.sc
 """
 
 from audere.tasks._io import load_task, parse_task, save_task
-from audere.tasks._models import Door, MazeTask, ReachAvoidTask, Region, STLTask, Task, TaskAdapter, TrackingTask
+from audere.tasks._models import (
+    Door,
+    MazeTask,
+    ReachAvoidTask,
+    Region,
+    STLTask,
+    Task,
+    TaskAdapter,
+    TrackingTask,
+)
 from audere.tasks._report import CheckReport, ClauseResult, Violation, ViolationKind
 from audere.tasks._solution import Solution, SolutionLike
 

@@ -16,7 +16,7 @@ __all__ = ["load_task", "parse_task", "save_task"]
 AnyTask = TrackingTask | ReachAvoidTask | MazeTask | STLTask
 
 
-def parse_task(text: str, *, format: Literal["json", "yaml"] = "yaml") -> AnyTask:  # noqa: A002
+def parse_task(text: str, *, format: Literal["json", "yaml"] = "yaml") -> AnyTask:
     """Build a task from JSON or YAML text.
 
     Parameters

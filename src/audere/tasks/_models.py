@@ -52,12 +52,15 @@ Cell = tuple[int, int]
 class _TaskBase(BaseModel):
     """Fields and behaviour common to every task kind."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False, ignored_types=(cached_property,))
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", allow_inf_nan=False, ignored_types=(cached_property,)
+    )
 
     name: str = Field("", description="Provenance label, e.g. 'plan-easy/seed=3'; free text.")
     dynamics: str | None = Field(
         None,
-        description="Dynamics model name (see audere.dynamics.list_dynamics()), or null for a geometric path task.",
+        description="Dynamics model name (see audere.dynamics.list_dynamics()), "
+        "or null for a geometric path task.",
     )
     dynamics_params: dict[str, float] = Field(
         default_factory=dict, description="Parameters of the dynamics model (defaults when omitted)."
@@ -65,19 +68,33 @@ class _TaskBase(BaseModel):
     integrator: Literal["euler", "rk4"] = Field(
         "euler", description="Discretisation of the dynamics: x[k+1] = x[k] + dt * f(x[k], u[k]) for euler."
     )
-    x0: tuple[float, ...] = Field(description="Initial state (n_x,), or the start position (x, y) for path tasks.")
+    x0: tuple[float, ...] = Field(
+        description="Initial state (n_x,), or the start position (x, y) for path tasks."
+    )
     dt: float = Field(1.0, gt=0, description="Time step in seconds.")
     horizon: int = Field(20, gt=0, le=100_000, description="Number of time steps.")
     u_min: tuple[float, ...] | None = Field(None, description="Lower input bounds (n_u,), or null for none.")
     u_max: tuple[float, ...] | None = Field(None, description="Upper input bounds (n_u,), or null for none.")
     workspace: Workspace = Field(default_factory=Workspace, description="The box the robot must stay in.")
     obstacles: tuple[Obstacle, ...] = Field((), description="Shapes the robot must not enter.")
-    margin: float = Field(0.0, ge=0, description="Clearance: obstacles are inflated by this much when checking.")
+    margin: float = Field(
+        0.0, ge=0, description="Clearance: obstacles are inflated by this much when checking."
+    )
     start_tolerance: float = Field(
         0.05, gt=0, description="A path's first waypoint must lie within this distance of the start."
     )
 
     # -- derived ------------------------------------------------------------------------------
+
+    def __eq__(self, other: object) -> bool:
+        # The generated equality compares ndarray fields with ``==``, which is ambiguous: compare the
+        # serialized fields instead (cached properties such as ``model`` are left out).
+        if type(other) is not type(self):
+            return NotImplemented
+        return self.model_dump(mode="json") == other.model_dump(mode="json")
+
+    def __hash__(self) -> int:
+        return hash(self.model_dump_json())
 
     @cached_property
     def model(self) -> Dynamics | None:
@@ -118,10 +135,15 @@ class _TaskBase(BaseModel):
         audere.world.World
             The world the solution is checked against.
         """
+        return self._worlds[1 if inflated else 0]
+
+    @cached_property
+    def _worlds(self) -> tuple[World, World]:
+        """The world as given and inflated by the margin, built once (the task is immutable)."""
         from audere.world import World
 
         world = World(workspace=self.workspace, obstacles=self.all_obstacles())
-        return world.inflate(self.margin) if inflated and self.margin > 0 else world
+        return world, (world.inflate(self.margin) if self.margin > 0 else world)
 
     @property
     def solution_kinds(self) -> tuple[str, ...]:
@@ -220,7 +242,8 @@ class _TaskBase(BaseModel):
                 bound = getattr(self, field)
                 if bound is not None and len(bound) != model.n_u:
                     raise ValueError(
-                        f"{field} must have {model.n_u} values {tuple(model.input_names)}, got {len(bound)} values {bound}"
+                        f"{field} must have {model.n_u} values {tuple(model.input_names)}, "
+                        f"got {len(bound)} values {bound}"
                     )
             if self.u_min is not None and self.u_max is not None:
                 for i, (lo, hi) in enumerate(zip(self.u_min, self.u_max, strict=True)):
@@ -252,11 +275,7 @@ class _TaskBase(BaseModel):
 
     def _require_free(self, point: tuple[float, float], what: str) -> None:
         """Raise if ``point`` lies inside an (inflated) obstacle."""
-        from audere.world import World
-
-        world = World(workspace=self.workspace, obstacles=self.all_obstacles())
-        if self.margin > 0:
-            world = world.inflate(self.margin)
+        world = self.world(inflated=True)
         depth = float(world.signed_distance(np.asarray([point], dtype=float))[0])
         if depth < 0:
             from audere.world import describe_shape
@@ -336,7 +355,9 @@ class ReachAvoidTask(_TaskBase):
     """
 
     kind: Literal["reach_avoid"] = "reach_avoid"
-    goal: tuple[float, ...] = Field(description="Goal position (x, y), or a full goal state when goal_on='state'.")
+    goal: tuple[float, ...] = Field(
+        description="Goal position (x, y), or a full goal state when goal_on='state'."
+    )
     goal_tolerance: float = Field(0.1, gt=0, description="Allowed distance to the goal at the end.")
     goal_on: Literal["position", "state"] = Field(
         "position", description="Whether the goal is a planar position or a full state."
@@ -387,7 +408,9 @@ class Door(BaseModel):
 
     cells: tuple[Cell, Cell] = Field(description="The two neighbouring cells, each (row, col).")
     offset: float = Field(
-        ge=0, le=1, description="Position of the door's centre along the shared edge, 0..1 (from left or bottom)."
+        ge=0,
+        le=1,
+        description="Position of the door's centre along the shared edge, 0..1 (from left or bottom).",
     )
     width: float = Field(gt=0, description="Width of the opening in metres.")
 
@@ -407,7 +430,9 @@ class MazeTask(_TaskBase):
     doors: tuple[Door, ...] = Field((), description="Openings between neighbouring cells.")
     wall_thickness: float = Field(0.1, gt=0, description="Thickness of the walls between cells, in metres.")
     goal: tuple[float, float] = Field(description="Goal position (x, y).")
-    goal_tolerance: float = Field(0.05, gt=0, description="The path must end within this distance of the goal.")
+    goal_tolerance: float = Field(
+        0.05, gt=0, description="The path must end within this distance of the goal."
+    )
 
     @property
     def cell_size(self) -> tuple[float, float]:
@@ -546,7 +571,9 @@ class MazeTask(_TaskBase):
     @model_validator(mode="after")
     def _maze_valid(self) -> MazeTask:
         if self.dynamics is not None:
-            raise ValueError(f"dynamics: a maze task is a path task and needs dynamics=null, got {self.dynamics!r}")
+            raise ValueError(
+                f"dynamics: a maze task is a path task and needs dynamics=null, got {self.dynamics!r}"
+            )
         seen: set[tuple[Cell, Cell]] = set()
         for i, door in enumerate(self.doors):
             (r1, c1), (r2, c2) = door.cells
@@ -563,12 +590,15 @@ class MazeTask(_TaskBase):
             seen.add(key)
             edge = self.cell_size[1] if r1 == r2 else self.cell_size[0]
             if door.width >= edge:
-                raise ValueError(f"doors[{i}].width must be smaller than the cell edge {edge:.3f}, got {door.width}")
+                raise ValueError(
+                    f"doors[{i}].width must be smaller than the cell edge {edge:.3f}, got {door.width}"
+                )
             lo = door.offset * edge - door.width / 2
             hi = door.offset * edge + door.width / 2
             if lo < 0 or hi > edge:
                 raise ValueError(
-                    f"doors[{i}].offset {door.offset} puts the {door.width} m opening past the end of the edge"
+                    f"doors[{i}].offset {door.offset} puts the {door.width} m opening past the end "
+                    "of the edge"
                 )
         _require_in_workspace(self.workspace, self.goal, "goal")
         self._require_free(self.goal, "goal")
@@ -604,7 +634,9 @@ class STLTask(_TaskBase):
     @model_validator(mode="after")
     def _spec_valid(self) -> STLTask:
         if self.dynamics is None:
-            raise ValueError("dynamics: an STL task needs a dynamics model (e.g. 'single_integrator'), got null")
+            raise ValueError(
+                "dynamics: an STL task needs a dynamics model (e.g. 'single_integrator'), got null"
+            )
         from audere.stl import parse
 
         try:
@@ -623,6 +655,14 @@ class STLTask(_TaskBase):
                 "shorten the time bounds or raise the horizon"
             )
         return self
+
+    @property
+    def solution_kinds(self) -> tuple[str, ...]:
+        """What :meth:`check` accepts: as for every task with dynamics, plus ``"timed_waypoints"``
+        (``(k, 3)`` rows ``(x, y, t)``, resampled at ``t = k * dt``) for the single integrator, whose
+        inputs the resampled positions determine exactly."""
+        kinds = super().solution_kinds
+        return (*kinds, "timed_waypoints") if self.dynamics == "single_integrator" else kinds
 
     @property
     def formula(self) -> Formula:

@@ -45,6 +45,9 @@ class ClauseResult(_Frozen):
     robustness: float
     satisfied: bool
     critical_step: int | None = Field(None, description="The step whose value decides the robustness.")
+    critical_predicate: str | None = Field(
+        None, description="The predicate (negated under a negation) whose value at critical_step decides it."
+    )
 
 
 class CheckReport(_Frozen):
@@ -61,11 +64,23 @@ class CheckReport(_Frozen):
     metrics: dict[str, float] = Field(default_factory=dict, description="Named scalar metrics.")
     violations: tuple[Violation, ...] = Field((), description="The first violations, in order of occurrence.")
     n_violations: int = Field(0, ge=0, description="Total number of violations found.")
+    violation_counts: dict[str, int] = Field(
+        default_factory=dict, description="Number of violations of each kind, all of them counted."
+    )
     clauses: tuple[ClauseResult, ...] = Field((), description="Per-clause robustness (STL tasks).")
     preview: FloatArray | None = Field(None, description="Downsampled positions, shape (<= 11, 2).")
     positions: FloatArray | None = Field(
         None, description="The full checked positions (for plots); never put into feedback text."
     )
+
+    def __eq__(self, other: object) -> bool:
+        # The generated equality compares ndarray fields with ``==``, which is ambiguous.
+        if type(other) is not type(self):
+            return NotImplemented
+        return self.model_dump(mode="json") == other.model_dump(mode="json")
+
+    def __hash__(self) -> int:
+        return hash(self.model_dump_json())
 
     @property
     def first_violation(self) -> Violation | None:

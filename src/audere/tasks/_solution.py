@@ -31,6 +31,16 @@ class Solution(BaseModel):
     waypoints: FloatArray | None = Field(None, description="Path, shape (k, 2).")
     times: FloatArray | None = Field(None, description="Time of each waypoint in seconds, shape (k,).")
 
+    def __eq__(self, other: object) -> bool:
+        # The generated equality compares ndarray fields with ``==``, which is ambiguous: compare the
+        # serialized fields instead (cached properties such as ``model`` are left out).
+        if type(other) is not type(self):
+            return NotImplemented
+        return self.model_dump(mode="json") == other.model_dump(mode="json")
+
+    def __hash__(self) -> int:
+        return hash(self.model_dump_json())
+
     @model_validator(mode="after")
     def _something(self) -> Solution:
         if self.inputs is None and self.states is None and self.waypoints is None:
