@@ -70,7 +70,7 @@ any_formulas: st.SearchStrategy[Formula] = st.recursive(
 
 REGION_NAMES = ("A", "B", "C", "D", "P")
 
-# Boundaries on the 0.25 grid, so that signals drawn on that grid often touch them (robustness 0).
+# Boundaries on the 0.5 grid, so that signals drawn on that grid often touch them (robustness 0).
 REGIONS = {
     "A": Rectangle(xmin=0.5, xmax=2.5, ymin=0.5, ymax=2.0),
     "B": Square(center=(3.0, 3.0), half_side=1.0),
@@ -101,9 +101,9 @@ small_formulas: st.SearchStrategy[Formula] = st.recursive(
 
 @st.composite
 def signals(draw: st.DrawFn, *, rows: int, grid: bool) -> np.ndarray:
-    """Positions (rows, 2) in [-0.5, 5.5]^2, on the 0.25 grid or anywhere."""
+    """Positions (rows, 2) in [-0.5, 5.5]^2, on the 0.5 grid or anywhere."""
     if grid:
-        values = st.integers(-2, 22).map(lambda k: k * 0.25)
+        values = st.integers(-1, 11).map(lambda k: k * 0.5)
     else:
         values = st.floats(-0.5, 5.5, allow_nan=False, allow_infinity=False)
     flat = draw(st.lists(values, min_size=2 * rows, max_size=2 * rows))

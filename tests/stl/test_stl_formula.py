@@ -31,8 +31,9 @@ def test_public_surface() -> None:
     assert stl.__all__ == sorted(stl.__all__)
     assert set(stl.__all__) == {
         "FALSE", "TRUE", "Always", "And", "Compare", "Constant", "Eventually",
-        "Formula", "Implies", "In", "Not", "Or", "STLSyntaxError", "Until",
-        "conjunction", "disjunction", "parse",
+        "Formula", "Implies", "In", "Not", "Or", "RegionShape", "STLSyntaxError", "Until",
+        "conjunction", "disjunction", "parse", "robustness", "robustness_trace",
+        "satisfied", "to_nnf",
     }  # fmt: skip
     assert issubclass(stl.STLSyntaxError, InvalidArgumentError)
 

@@ -8,8 +8,7 @@ Formulas are immutable trees (:class:`Formula` and its node classes) with a text
 A formula is evaluated on ``positions``, an array (T+1, 2) whose row ``t`` is the position
 ``(x, y)`` at step ``t``, with ``regions`` mapping each name used in ``in(NAME)`` to a world shape:
 :func:`robustness` (quantitative semantics), :func:`robustness_trace` (at every step),
-:func:`satisfied` (boolean semantics, implemented separately) and :func:`explain` (per top-level
-clause). :func:`to_nnf` pushes negations down to the predicates without changing the robustness.
+:func:`satisfied` (boolean semantics, implemented separately). :func:`to_nnf` pushes negations down to the predicates without changing the robustness.
 See ``docs/stl.md`` for the grammar and the definitions.
 """
 
@@ -32,7 +31,10 @@ from audere.stl._formula import (
     conjunction,
     disjunction,
 )
+from audere.stl._nnf import to_nnf
 from audere.stl._parser import STLSyntaxError, parse
+from audere.stl._regions import RegionShape
+from audere.stl._semantics import robustness, robustness_trace, satisfied
 
 # Plain sorted() order (pinned by tests/test_package.py), not ruff's isort-style order.
 __all__ = [  # noqa: RUF022
@@ -47,10 +49,15 @@ __all__ = [  # noqa: RUF022
     "In",
     "Not",
     "Or",
+    "RegionShape",
     "STLSyntaxError",
     "TRUE",
     "Until",
     "conjunction",
     "disjunction",
     "parse",
+    "robustness",
+    "robustness_trace",
+    "satisfied",
+    "to_nnf",
 ]
