@@ -30,9 +30,9 @@ A, B, C = In("A"), In("B"), In("C")
 def test_public_surface() -> None:
     assert stl.__all__ == sorted(stl.__all__)
     assert set(stl.__all__) == {
-        "FALSE", "TRUE", "Always", "And", "Compare", "Constant", "Eventually",
+        "FALSE", "TRUE", "Always", "And", "ClauseReport", "Compare", "Constant", "Eventually",
         "Formula", "Implies", "In", "Not", "Or", "RegionShape", "STLSyntaxError", "Until",
-        "conjunction", "disjunction", "parse", "robustness", "robustness_trace",
+        "conjunction", "disjunction", "explain", "parse", "robustness", "robustness_trace",
         "satisfied", "to_nnf",
     }  # fmt: skip
     assert issubclass(stl.STLSyntaxError, InvalidArgumentError)

@@ -8,12 +8,14 @@ Formulas are immutable trees (:class:`Formula` and its node classes) with a text
 A formula is evaluated on ``positions``, an array (T+1, 2) whose row ``t`` is the position
 ``(x, y)`` at step ``t``, with ``regions`` mapping each name used in ``in(NAME)`` to a world shape:
 :func:`robustness` (quantitative semantics), :func:`robustness_trace` (at every step),
-:func:`satisfied` (boolean semantics, implemented separately). :func:`to_nnf` pushes negations down to the predicates without changing the robustness.
+:func:`satisfied` (boolean semantics, implemented separately) and :func:`explain` (per top-level
+clause). :func:`to_nnf` pushes negations down to the predicates without changing the robustness.
 See ``docs/stl.md`` for the grammar and the definitions.
 """
 
 from __future__ import annotations
 
+from audere.stl._explain import ClauseReport, explain
 from audere.stl._formula import (
     FALSE,
     TRUE,
@@ -40,6 +42,7 @@ from audere.stl._semantics import robustness, robustness_trace, satisfied
 __all__ = [  # noqa: RUF022
     "Always",
     "And",
+    "ClauseReport",
     "Compare",
     "Constant",
     "Eventually",
@@ -55,6 +58,7 @@ __all__ = [  # noqa: RUF022
     "Until",
     "conjunction",
     "disjunction",
+    "explain",
     "parse",
     "robustness",
     "robustness_trace",
