@@ -102,7 +102,7 @@ def _num(value: float) -> str:
 
 
 def _pt(p: NDArray[Any] | tuple[float, float]) -> str:
-    return f"({p[0]:.3f}, {p[1]:.3f})"
+    return f"({_num(float(p[0]))}, {_num(float(p[1]))})"
 
 
 def _vec(v: NDArray[Any]) -> str:
@@ -704,12 +704,13 @@ def check(task: AnyTask, solution: object) -> CheckReport:
             stl_found, clauses = _stl(task, traj, metrics)
             found.append(stl_found)
     p = traj.positions
-    if len(world.obstacles) and len(p):
-        metrics["min_clearance"] = float(world.clearance(p))
-    if isinstance(task, ReachAvoidTask | MazeTask):
-        metrics["path_length"] = _path_length(p)
-    if isinstance(task, MazeTask) and len(p):
-        metrics["cells_visited"] = float(_cells_visited(task, p))
+    if traj.complete:
+        if len(world.obstacles):
+            metrics["min_clearance"] = float(world.clearance(p))
+        if isinstance(task, ReachAvoidTask | MazeTask):
+            metrics["path_length"] = _path_length(p)
+        if isinstance(task, MazeTask):
+            metrics["cells_visited"] = float(_cells_visited(task, p))
 
     counts: dict[str, int] = {}
     everything: list[Violation] = []

@@ -445,8 +445,13 @@ def _stl_lines(task: STLTask) -> list[str]:
     lines.append("Reading, clause by clause (all must hold, evaluated at step 0):")
     lines += describe_formula(formula)
     lines.append(
-        "Robustness: the signed margin in metres by which the specification holds (positive: satisfied; "
-        "negative: violated by that much)."
+        "Robustness: how well the specification holds, in metres (positive: satisfied with that margin; "
+        "negative: violated by that much). For in(R) it is, for a rectangle or square R, the least of the "
+        "four "
+        "margins x - xmin, xmax - x, y - ymin, ymax - y; for a circle, radius minus the distance to the "
+        "centre; "
+        "for a polygon, the distance to its boundary (negative outside). ! negates it, & and G take the "
+        "minimum, | and F the maximum."
     )
     return lines
 

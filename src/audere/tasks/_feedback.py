@@ -110,8 +110,13 @@ def _clip(line: str, limit: int = _MAX_LINE) -> str:
     return line if len(line) <= limit else line[: limit - 3] + "..."
 
 
+def _coordinate(value: float) -> str:
+    text = f"{value:.3e}" if abs(value) >= 1e5 else f"{value:.2f}"
+    return "0.00" if text == "-0.00" else text
+
+
 def _point(p: np.ndarray) -> str:
-    return f"({p[0]:.2f}, {p[1]:.2f})"
+    return f"({_coordinate(float(p[0]))}, {_coordinate(float(p[1]))})"
 
 
 def feedback(report: CheckReport, *, max_chars: int = 2000) -> str:
