@@ -80,6 +80,11 @@ BAD_CALLS: list[tuple[str, Callable[[], Any], str]] = [
         lambda: get_dynamics("unicycle", {"mass": 1.0}),
         r"params for 'unicycle' accept no parameters, got unknown 'mass'",
     ),
+    (
+        "params-not-mapping",
+        lambda: get_dynamics("pendulum", [("length", 1.0)]),  # type: ignore[arg-type]
+        r"params must be a mapping from parameter name to value or None, got list",
+    ),
     ("param-negative", lambda: get_dynamics("pendulum", {"length": -1.0}), r"'length' must be > 0, got -1.0"),
     ("param-zero-mass", lambda: Pendulum(mass=0.0), r"pendulum parameter 'mass' must be > 0, got 0.0"),
     (

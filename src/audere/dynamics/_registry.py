@@ -51,6 +51,11 @@ def get_dynamics(name: str, params: Mapping[str, float] | None = None) -> Dynami
     if not isinstance(name, str) or name not in _MODELS:
         raise InvalidArgumentError(f"name must be one of {', '.join(repr(n) for n in _MODELS)}, got {name!r}")
     cls = _MODELS[name]
+    if params is not None and not isinstance(params, Mapping):
+        raise InvalidArgumentError(
+            "params must be a mapping from parameter name to value or None, "
+            f"got {type(params).__name__}: {params!r}"
+        )
     given = dict(params) if params is not None else {}
     accepted = [field.name for field in dataclasses.fields(cls)]
     unknown = sorted(str(k) for k in given if k not in accepted)
