@@ -115,7 +115,7 @@ PointKernel = Callable[..., F]
 SegmentKernel = Callable[..., F]
 SegmentPredicate = Callable[..., B]
 
-_SD: dict[GroupKind, PointKernel] = {"circle": kn.circle_sd, "box": kn.box_sd, "polygon": kn.polygon_sd}
+_SD: dict[GroupKind, PointKernel] = {"circle": kn.circle_sd, "box": kn.box_sd, "polygon": kn.polygon_point_sd}
 _INTERSECT: dict[GroupKind, SegmentPredicate] = {
     "circle": kn.circle_segments_intersect,
     "box": kn.box_segments_intersect,
@@ -249,22 +249,40 @@ def pack(obstacles: Sequence[Shape]) -> tuple[Group, ...]:
         box_params = (x0, y0, x1, y1)
         groups.append(Group("box", np.array([i for i, _ in boxes], dtype=np.intp), box_params, box_params))
     if polygons:
-        n_edges = max(len(o.vertices) for _, o in polygons)
-        a = np.empty((len(polygons), n_edges, 2))
-        b = np.empty((len(polygons), n_edges, 2))
-        for j, (_, o) in enumerate(polygons):
-            verts = np.array(o.vertices, dtype=np.float64)
-            m = len(verts)
-            a[j, :m] = verts
-            b[j, :m] = np.roll(verts, -1, axis=0)
-            a[j, m:] = verts[0]  # zero-length padding edges
-            b[j, m:] = verts[0]
-        ax, ay, bx, by = (np.ascontiguousarray(arr[..., j]) for arr in (a, b) for j in (0, 1))
+        rings = [_ccw_ring(o) for _, o in polygons]
+        n_vertices = max(len(r) for r in rings)
+        a = np.empty((len(polygons), n_vertices, 2))
+        for j, ring in enumerate(rings):
+            a[j, : len(ring)] = ring
+            a[j, len(ring) :] = ring[0]  # padding: copies of the first vertex
+        b = np.empty_like(a)
+        u = np.empty_like(a)
+        for j, ring in enumerate(rings):
+            b[j] = a[j, 0]
+            u[j] = a[j, 0]
+            b[j, : len(ring)] = np.roll(ring, -1, axis=0)
+            u[j, : len(ring)] = np.roll(ring, 1, axis=0)
+        ax, ay, bx, by, ux, uy = (np.ascontiguousarray(arr[..., j]) for arr in (a, b, u) for j in (0, 1))
         poly_bounds = (ax.min(axis=1), ay.min(axis=1), ax.max(axis=1), ay.max(axis=1))
         groups.append(
-            Group("polygon", np.array([i for i, _ in polygons], dtype=np.intp), (ax, ay, bx, by), poly_bounds)
+            Group(
+                "polygon",
+                np.array([i for i, _ in polygons], dtype=np.intp),
+                (ax, ay, bx, by, ux, uy),
+                poly_bounds,
+            )
         )
     return tuple(groups)
+
+
+def _ccw_ring(polygon: Polygon) -> F:
+    """The polygon's vertices counter-clockwise, without repeated consecutive vertices."""
+    v = np.array(polygon.vertices, dtype=np.float64)
+    keep = np.any(v != np.roll(v, -1, axis=0), axis=1)
+    v = v[keep]
+    x, y = v[:, 0], v[:, 1]
+    twice_area = float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    return v if twice_area > 0 else v[::-1].copy()
 
 
 def _box_bounds(shape: Shape) -> tuple[float, float, float, float]:

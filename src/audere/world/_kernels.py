@@ -10,17 +10,20 @@ Shape parameters (``P`` below):
 
 - circle: ``cx, cy, r``;
 - box (squares and rectangles): ``x0, y0, x1, y1`` (``xmin, ymin, xmax, ymax``);
-- polygon: edges from ``(ax, ay)`` to ``(bx, by)``, each with a trailing edge axis ``(..., E)``;
-  a polygon with fewer than ``E`` edges is padded with zero-length edges at its first vertex,
-  which change no result below.
+- polygon (counter-clockwise): vertices ``(ax, ay)``, the next vertices ``(bx, by)`` (so the edges
+  run from ``a`` to ``b``) and the previous vertices ``(ux, uy)``, each with a trailing axis
+  ``(..., E)``; a polygon with fewer than ``E`` vertices is padded with copies of its first vertex
+  (zero-length edges, flat angles), which change no result below.
 
 Point kernels are called as ``kernel(x, y, *P)``, segment kernels as
 ``kernel(px, py, qx, qy, *P)`` for the closed segment from ``(px, py)`` to ``(qx, qy)``.
 
-Exactness: every formula is a closed form (no sampling) except :func:`polygon_segment_depth`;
-results are exact up to floating-point rounding. Predicates that decide boundary contact
-(``< 0`` versus ``== 0``) use orientation tests and coordinate comparisons, so contact with
-axis-aligned edges and at vertices is decided without rounding error.
+Exactness: every formula is a closed form (no sampling) except :func:`polygon_segment_depth`.
+Every yes/no answer (inside, on the boundary, outside; segment reaches the interior, touches,
+misses) comes from coordinate comparisons and the robust predicates of
+:mod:`audere.world._predicates`, so it is exact for the given floating-point coordinates. Distances
+are computed in floating point (a few ulps of error) and carry the exact sign: 0 exactly on the
+boundary or on contact, never 0 otherwise.
 """
 
 from __future__ import annotations
@@ -28,8 +31,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from audere.world._predicates import orient, point_circle_sign, segment_circle_sign, with_sign
+
 F = NDArray[np.float64]
 B = NDArray[np.bool_]
+
+TINY = float(np.finfo(np.float64).tiny)
+"""Smallest positive normal float: a distance that rounding made vanish but that is not zero."""
 
 POLYGON_DEPTH_SAMPLES = 65
 """Evenly spaced samples per segment used to approximate a polygon's penetration depth."""
@@ -61,14 +69,10 @@ def point_segment_distance(x: F, y: F, ax: F, ay: F, bx: F, by: F) -> F:
 
 def segments_meet(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F) -> B:
     """Do closed segments ``[p, q]`` and ``[a, b]`` share a point (orientation test)."""
-    dx = qx - px
-    dy = qy - py
-    ex = bx - ax
-    ey = by - ay
-    s1 = np.sign(dx * (ay - py) - dy * (ax - px))
-    s2 = np.sign(dx * (by - py) - dy * (bx - px))
-    s3 = np.sign(ex * (py - ay) - ey * (px - ax))
-    s4 = np.sign(ex * (qy - ay) - ey * (qx - ax))
+    s1 = orient(px, py, qx, qy, ax, ay)
+    s2 = orient(px, py, qx, qy, bx, by)
+    s3 = orient(ax, ay, bx, by, px, py)
+    s4 = orient(ax, ay, bx, by, qx, qy)
     boxes = (
         (np.minimum(px, qx) <= np.maximum(ax, bx))
         & (np.minimum(ax, bx) <= np.maximum(px, qx))
@@ -88,7 +92,7 @@ def segment_segment_distance(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by
             point_segment_distance(ax, ay, px, py, qx, qy), point_segment_distance(bx, by, px, py, qx, qy)
         ),
     )
-    return np.asarray(np.where(segments_meet(px, py, qx, qy, ax, ay, bx, by), 0.0, m))
+    return np.asarray(np.where(segments_meet(px, py, qx, qy, ax, ay, bx, by), 0.0, np.maximum(m, TINY)))
 
 
 def _center_distance(px: F, py: F, qx: F, qy: F, cx: F, cy: F) -> F:
@@ -100,22 +104,31 @@ def _center_distance(px: F, py: F, qx: F, qy: F, cx: F, cy: F) -> F:
 
 def circle_sd(x: F, y: F, cx: F, cy: F, r: F) -> F:
     """Signed distance from points to discs."""
-    return np.asarray(np.hypot(x - cx, y - cy) - r)
+    approx = np.hypot(x - cx, y - cy) - r
+    return with_sign(approx, point_circle_sign(x, y, cx, cy, r, approx))
+
+
+def _circle_segment(px: F, py: F, qx: F, qy: F, cx: F, cy: F, r: F) -> tuple[F, NDArray[np.int8]]:
+    """``dist(c, [p, q]) - r`` and its exact sign."""
+    approx = _center_distance(px, py, qx, qy, cx, cy) - r
+    return approx, segment_circle_sign(px, py, qx, qy, cx, cy, r, approx)
 
 
 def circle_segments_intersect(px: F, py: F, qx: F, qy: F, cx: F, cy: F, r: F) -> B:
     """Does each closed segment reach the open disc."""
-    return np.asarray(_center_distance(px, py, qx, qy, cx, cy) < r)
+    return np.asarray(_circle_segment(px, py, qx, qy, cx, cy, r)[1] < 0)
 
 
 def circle_segment_distance(px: F, py: F, qx: F, qy: F, cx: F, cy: F, r: F) -> F:
     """Distance from each closed segment to the closed disc (0 when they meet)."""
-    return np.asarray(np.maximum(_center_distance(px, py, qx, qy, cx, cy) - r, 0.0))
+    approx, sign = _circle_segment(px, py, qx, qy, cx, cy, r)
+    return with_sign(approx, np.maximum(sign, 0))
 
 
 def circle_segment_signed(px: F, py: F, qx: F, qy: F, cx: F, cy: F, r: F) -> F:
     """Least signed distance to the disc along each segment (exact)."""
-    return np.asarray(_center_distance(px, py, qx, qy, cx, cy) - r)
+    approx, sign = _circle_segment(px, py, qx, qy, cx, cy, r)
+    return with_sign(approx, sign)
 
 
 def circle_entry(px: F, py: F, qx: F, qy: F, cx: F, cy: F, r: F) -> F:
@@ -157,7 +170,7 @@ def _box_relation(px: F, py: F, qx: F, qy: F, x0: F, y0: F, x1: F, y1: F, *, str
     """
     dx = qx - px
     dy = qy - py
-    o = [dx * (cy - py) - dy * (cx - px) for cx, cy in _corners(x0, y0, x1, y1)]
+    o = [orient(px, py, qx, qy, cx, cy) for cx, cy in _corners(x0, y0, x1, y1)]
     omax = np.maximum(np.maximum(o[0], o[1]), np.maximum(o[2], o[3]))
     omin = np.minimum(np.minimum(o[0], o[1]), np.minimum(o[2], o[3]))
     sx0, sx1 = np.minimum(px, qx), np.maximum(px, qx)
@@ -187,7 +200,7 @@ def box_segment_distance(px: F, py: F, qx: F, qy: F, x0: F, y0: F, x1: F, y1: F)
     best = np.maximum(np.minimum(box_sd(px, py, x0, y0, x1, y1), box_sd(qx, qy, x0, y0, x1, y1)), 0.0)
     for cx, cy in _corners(x0, y0, x1, y1):
         best = np.minimum(best, point_segment_distance(cx, cy, px, py, qx, qy))
-    return np.asarray(np.where(touch, 0.0, best))
+    return np.asarray(np.where(touch, 0.0, np.maximum(best, TINY)))
 
 
 def box_segment_signed(px: F, py: F, qx: F, qy: F, x0: F, y0: F, x1: F, y1: F) -> F:
@@ -212,7 +225,7 @@ def box_segment_signed(px: F, py: F, qx: F, qy: F, x0: F, y0: F, x1: F, y1: F) -
         best = np.minimum(best, g)
     inside = box_segments_intersect(px, py, qx, qy, x0, y0, x1, y1)
     outside = box_segment_distance(px, py, qx, qy, x0, y0, x1, y1)
-    return np.asarray(np.where(inside, np.minimum(best, 0.0), outside))
+    return np.asarray(np.where(inside, np.minimum(best, -TINY), outside))
 
 
 def box_entry(px: F, py: F, qx: F, qy: F, x0: F, y0: F, x1: F, y1: F) -> F:
@@ -227,30 +240,38 @@ def box_entry(px: F, py: F, qx: F, qy: F, x0: F, y0: F, x1: F, y1: F) -> F:
 # -------------------------------------------------------------------------------------------- polygon
 
 
-def polygon_winding_inside(x: F, y: F, ax: F, ay: F, bx: F, by: F) -> B:
-    """Non-zero winding number of the edges ``a -> b`` around points (boundary points undecided)."""
-    x = x[..., None]
-    y = y[..., None]
-    o = (bx - ax) * (y - ay) - (by - ay) * (x - ax)
-    up = (ay <= y) & (by > y) & (o > 0)
-    down = (by <= y) & (ay > y) & (o < 0)
-    return np.asarray(up.sum(axis=-1) != down.sum(axis=-1))
-
-
 def polygon_sd(x: F, y: F, ax: F, ay: F, bx: F, by: F) -> F:
-    """Signed distance from points to simple polygons: minus the boundary distance strictly inside."""
-    dist = point_segment_distance(x[..., None], y[..., None], ax, ay, bx, by).min(axis=-1)
-    inside = polygon_winding_inside(x, y, ax, ay, bx, by) & (dist > 0)
-    return np.asarray(np.where(inside, -dist, dist))
+    """Signed distance from points to simple polygons: minus the boundary distance strictly inside.
+
+    Inside/outside by the winding number, on the boundary when the point lies on an edge; both
+    decided with exact orientation signs.
+    """
+    xe = x[..., None]
+    ye = y[..., None]
+    o = orient(ax, ay, bx, by, xe, ye)
+    up = (ay <= ye) & (by > ye) & (o > 0)
+    down = (by <= ye) & (ay > ye) & (o < 0)
+    winding = up.sum(axis=-1) != down.sum(axis=-1)
+    on_edge = (
+        (o == 0)
+        & (np.minimum(ax, bx) <= xe)
+        & (xe <= np.maximum(ax, bx))
+        & (np.minimum(ay, by) <= ye)
+        & (ye <= np.maximum(ay, by))
+    )
+    sign = np.where(on_edge.any(axis=-1), 0, np.where(winding, -1, 1)).astype(np.int8)
+    dist = point_segment_distance(xe, ye, ax, ay, bx, by).min(axis=-1)
+    return with_sign(dist, sign)
 
 
 def polygon_pieces(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F) -> tuple[F, B]:
-    """Split each segment where it may meet the boundary; classify each piece.
+    """Split each segment where it may meet the boundary; classify each piece by its midpoint.
 
     Breakpoints are the segment's ends, its crossings with every edge's line and the projections of
     every vertex, sorted. Between consecutive breakpoints the open piece meets no edge, so it lies
-    wholly inside or wholly outside and its midpoint decides. Extra breakpoints never change the
-    answer, so the set is generous.
+    wholly inside or wholly outside and its midpoint decides (up to rounding of the midpoint, which
+    matters for pieces along an edge: :func:`polygon_events` is the exact test). Used for the depth
+    candidates.
 
     Returns
     -------
@@ -283,27 +304,111 @@ def _polygon_sd_along(px: F, py: F, dx: F, dy: F, s: F, ax: F, ay: F, bx: F, by:
     return polygon_sd(x, y, ax[e], ay[e], bx[e], by[e])
 
 
-def polygon_segments_intersect(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F) -> B:
-    """Does each closed segment reach the open polygon."""
-    _, inside = polygon_pieces(px, py, qx, qy, ax, ay, bx, by)
-    return np.asarray(inside.any(axis=-1))
+def polygon_events(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F, ux: F, uy: F) -> tuple[B, F]:
+    """Does each closed segment reach the open polygon, and where does it first enter.
+
+    Only orientation tests and comparisons on the input coordinates decide (no derived points). For
+    a counter-clockwise polygon, with vertex ``a``, next vertex ``b`` and previous vertex ``u``, the
+    segment reaches the interior exactly when one of these holds:
+
+    - an end lies strictly inside;
+    - it crosses an edge properly (both ends strictly on either side of the edge's line, both edge
+      ends strictly on either side of the segment's line);
+    - it passes through or starts/ends at a vertex, heading (forwards or backwards) strictly into
+      the interior angle at that vertex;
+    - an end lies inside an edge (not at a vertex) and the segment heads into the interior side.
+
+    The first entry is the least parameter of the events that head forwards into the interior.
+
+    Returns
+    -------
+    tuple
+        ``hit (...)`` and ``entry (...)`` (the parameter ``t`` in [0, 1]; 1 where there is no hit).
+    """
+    e = (..., None)
+    p_x, p_y, q_x, q_y = px[e], py[e], qx[e], qy[e]
+    dx = q_x - p_x
+    dy = q_y - p_y
+    ex = bx - ax
+    ey = by - ay
+    oa = orient(p_x, p_y, q_x, q_y, ax, ay)  # vertices against the segment's line
+    ob = orient(p_x, p_y, q_x, q_y, bx, by)
+    ou = orient(p_x, p_y, q_x, q_y, ux, uy)
+    op = orient(ax, ay, bx, by, p_x, p_y)  # segment ends against the edge's line (> 0: interior side)
+    oq = orient(ax, ay, bx, by, q_x, q_y)
+
+    proper = (oa * ob < 0) & (op * oq < 0)
+    t_cross = safe_div((ax - p_x) * ey - (ay - p_y) * ex, dx * ey - dy * ex)
+
+    on_segment = (
+        (oa == 0)
+        & ((dx != 0) | (dy != 0))
+        & (np.minimum(p_x, q_x) <= ax)
+        & (ax <= np.maximum(p_x, q_x))
+        & (np.minimum(p_y, q_y) <= ay)
+        & (ay <= np.maximum(p_y, q_y))
+    )
+    # Heading r = +-(q - p) from a vertex a on the segment lies strictly inside the interior angle
+    # when it is left of the next edge (b right of the segment's line, for r = q - p) and right of
+    # the previous edge reversed (u left of it); both at a convex vertex, either at a reflex one.
+    convex = orient(ux, uy, ax, ay, bx, by) >= 0
+    forward_ok = np.where(convex, (ob < 0) & (ou > 0), (ob < 0) | (ou > 0))
+    backward_ok = np.where(convex, (ob > 0) & (ou < 0), (ob > 0) | (ou < 0))
+    at_q = (ax == q_x) & (ay == q_y)
+    at_p = (ax == p_x) & (ay == p_y)
+    forward = on_segment & ~at_q & forward_ok
+    backward = on_segment & ~at_p & backward_ok
+    t_vertex = safe_div((ax - p_x) * dx + (ay - p_y) * dy, dx * dx + dy * dy)
+
+    def inside_edge(x: F, y: F, o: NDArray[np.int8]) -> B:
+        """On the edge's line, in its closed bounding box, not at either end."""
+        return np.asarray(
+            (o == 0)
+            & (np.minimum(ax, bx) <= x)
+            & (x <= np.maximum(ax, bx))
+            & (np.minimum(ay, by) <= y)
+            & (y <= np.maximum(ay, by))
+            & ((x != ax) | (y != ay))
+            & ((x != bx) | (y != by))
+        )
+
+    p_edge = inside_edge(p_x, p_y, op) & (oq > 0)
+    q_edge = inside_edge(q_x, q_y, oq) & (op > 0)
+
+    p_in = polygon_sd(px, py, ax, ay, bx, by) < 0
+    q_in = polygon_sd(qx, qy, ax, ay, bx, by) < 0
+    hit = p_in | q_in | np.any(proper | forward | backward | p_edge | q_edge, axis=-1)
+
+    t = np.where(proper & (oq > 0), t_cross, np.inf)
+    t = np.where(forward, np.minimum(t, t_vertex), t)
+    t = np.where(p_edge, 0.0, t)
+    entry = np.where(p_in, 0.0, np.clip(t.min(axis=-1), 0.0, 1.0))
+    return np.asarray(hit), np.asarray(entry)
 
 
-def polygon_entry(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F) -> F:
+def polygon_point_sd(x: F, y: F, ax: F, ay: F, bx: F, by: F, ux: F, uy: F) -> F:
+    """:func:`polygon_sd` with the packed polygon parameters (previous vertices unused)."""
+    return polygon_sd(x, y, ax, ay, bx, by)
+
+
+def polygon_segments_intersect(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F, ux: F, uy: F) -> B:
+    """Does each closed segment reach the open polygon (see :func:`polygon_events`)."""
+    return polygon_events(px, py, qx, qy, ax, ay, bx, by, ux, uy)[0]
+
+
+def polygon_entry(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F, ux: F, uy: F) -> F:
     """Parameter ``t`` in [0, 1] where each segment first enters its polygon (intersecting segments)."""
-    t, inside = polygon_pieces(px, py, qx, qy, ax, ay, bx, by)
-    first = np.argmax(inside, axis=-1)
-    return np.asarray(np.take_along_axis(t, first[..., None], axis=-1)[..., 0])
+    return polygon_events(px, py, qx, qy, ax, ay, bx, by, ux, uy)[1]
 
 
-def polygon_segment_distance(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F) -> F:
+def polygon_segment_distance(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F, ux: F, uy: F) -> F:
     """Distance from each closed segment to the closed polygon (0 when they meet)."""
     e = (..., None)
     edges = segment_segment_distance(px[e], py[e], qx[e], qy[e], ax, ay, bx, by).min(axis=-1)
     return np.asarray(np.where(polygon_sd(px, py, ax, ay, bx, by) < 0, 0.0, edges))
 
 
-def polygon_segment_depth(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F) -> F:
+def polygon_segment_depth(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F, ux: F, uy: F) -> F:
     """Approximate least signed distance to the polygon along each intersecting segment.
 
     The signed distance is evaluated at :data:`POLYGON_DEPTH_SAMPLES` evenly spaced points and at
@@ -319,4 +424,6 @@ def polygon_segment_depth(px: F, py: F, qx: F, qy: F, ax: F, ay: F, bx: F, by: F
     s = np.concatenate([uniform, mid], axis=-1)
     dx = (qx - px)[..., None]
     dy = (qy - py)[..., None]
-    return np.asarray(_polygon_sd_along(px, py, dx, dy, s, ax, ay, bx, by).min(axis=-1))
+    depth = _polygon_sd_along(px, py, dx, dy, s, ax, ay, bx, by).min(axis=-1)
+    # An interior reached only between samples: report the smallest negative number, not >= 0.
+    return np.asarray(np.where(depth < 0, depth, -TINY))
