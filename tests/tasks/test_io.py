@@ -123,3 +123,14 @@ def test_task_adapter_validates_any_kind() -> None:
     for name in KINDS:
         t = task(ALL[name])
         assert TaskAdapter.validate_python(t.model_dump()) == t
+
+
+def test_model_copy_validates_and_rebuilds_derived_values() -> None:
+    t = task(ALL["reach_avoid_path"])
+    assert t.world().obstacles[0].radius == 1.0  # cache the checking world
+    wider = t.model_copy(update={"margin": 0.5})
+    assert wider.world().obstacles[0].radius == 1.5
+    assert not wider.check(np.array([[1.0, 1.0], [1.0, 6.2], [9.0, 6.2], [9.0, 9.0]])).success
+    with pytest.raises(ValueError, match=r"x0 \(start\) \(5\.000, 5\.000\) lies inside obstacle 0"):
+        t.model_copy(update={"x0": (5.0, 5.0)})
+    assert t.model_copy() == t

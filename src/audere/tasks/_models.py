@@ -15,8 +15,9 @@ was received.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from functools import cached_property
-from typing import TYPE_CHECKING, Annotated, Any, Literal
+from typing import TYPE_CHECKING, Annotated, Any, Literal, Self
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, TypeAdapter, field_validator, model_validator
@@ -186,6 +187,28 @@ class _TaskBase(BaseModel):
         from audere.tasks._check import check
 
         return check(self, solution)  # type: ignore[arg-type]
+
+    def model_copy(self, *, update: Mapping[str, Any] | None = None, deep: bool = False) -> Self:
+        """A copy with some fields replaced, validated again.
+
+        Unlike pydantic's default, the copy is validated and its derived values (``model``, the
+        worlds, a maze's walls) are rebuilt instead of copied from the original.
+
+        Parameters
+        ----------
+        update
+            Field values to replace, by field name.
+        deep
+            Ignored: a task is immutable, so a shallow and a deep copy are the same.
+
+        Returns
+        -------
+        Task
+            A new, validated task of the same kind.
+        """
+        data = self.model_dump()
+        data.update(update or {})
+        return self.model_validate(data)
 
     def to_json(self, *, indent: int | None = 2) -> str:
         """Serialize to JSON (round-trips through :func:`audere.tasks.load_task`).
