@@ -384,8 +384,7 @@ MALFORMED: list[tuple[str, dict[str, Any], Any, str]] = [
         TRACK_SI,
         np.zeros((4, 3)),
         r"^expected inputs: an array of shape \(4, 2\) \(vx, vy\), one row per step; or states: an array of "
-        r"shape "
-        r"\(5, 2\) \(x, y\); got an array of shape \(4, 3\)$",
+        r"shape \(5, 2\) \(x, y\); got an array of shape \(4, 3\)$",
     ),
     (
         "inputs with one row too many",
@@ -411,8 +410,7 @@ MALFORMED: list[tuple[str, dict[str, Any], Any, str]] = [
         RA_UNICYCLE,
         {"states": np.zeros((11, 4))},
         r"states alone cannot be checked for dynamics 'unicycle' \(its inputs cannot be recovered from "
-        r"them\); "
-        r"give inputs",
+        r"them\); give inputs",
     ),
     (
         "waypoints for the unicycle",

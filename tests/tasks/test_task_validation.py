@@ -209,8 +209,7 @@ INVALID: list[tuple[str, dict[str, Any], str]] = [
         "unknown dynamics",
         data(RA_PATH, dynamics="rocket"),
         r"unknown dynamics 'rocket'; expected one of single_integrator, double_integrator, unicycle, "
-        r"pendulum, "
-        r"two_link_arm or null",
+        r"pendulum, two_link_arm or null",
     ),
     (
         "unknown dynamics parameter",

@@ -198,8 +198,8 @@ def _fields(task: AnyTask, solution: object) -> dict[str, F]:
         return _bare(task, _as_array(solution, "the solution"))
     else:
         raise _Malformed(
-            "a solution must be a Solution, a mapping of its fields (inputs, states, waypoints, times) or an "
-            f"array, got {type(solution).__name__}. Expected {_expected(task)}"
+            "a solution must be a Solution, a mapping of its fields (inputs, states, waypoints, times) or "
+            f"an array, got {type(solution).__name__}. Expected {_expected(task)}"
         )
     arrays = {name: _as_array(value, name) for name, value in raw.items()}
     return _shaped(task, arrays)
@@ -253,8 +253,8 @@ def _shaped(task: AnyTask, arrays: dict[str, F]) -> dict[str, F]:
     if "waypoints" in arrays:
         if "timed_waypoints" not in task.solution_kinds:
             raise _Malformed(
-                f"this task with dynamics {task.dynamics!r} does not take waypoints; "
-                f"expected {_expected(task)}"
+                f"this task with dynamics {task.dynamics!r} does not take waypoints; expected "
+                f"{_expected(task)}"
             )
         others = [k for k in given if k not in ("waypoints", "times")]
         if others:
@@ -433,8 +433,8 @@ def _resample(task: AnyTask, xy: F, t: F) -> F:
     if np.any(dt_t <= 0):
         i = int(np.argmax(dt_t <= 0))
         raise _Malformed(
-            f"times must be strictly increasing; got t[{i + 1}] = {_num(float(t[i + 1]))} after "
-            f"t[{i}] = {_num(float(t[i]))}"
+            f"times must be strictly increasing; got t[{i + 1}] = {_num(float(t[i + 1]))} after t[{i}] = "
+            f"{_num(float(t[i]))}"
         )
     end = task.horizon * task.dt
     slack = TIME_TOLERANCE * max(1.0, end)
@@ -442,8 +442,8 @@ def _resample(task: AnyTask, xy: F, t: F) -> F:
         raise _Malformed(f"the timed path must start at t = 0; got t[0] = {_num(float(t[0]))}")
     if float(t[-1]) < end - slack:
         raise _Malformed(
-            f"the timed path must reach t = {_num(end)} (horizon {task.horizon} x dt {_num(task.dt)}); "
-            f"its last time is {_num(float(t[-1]))}"
+            f"the timed path must reach t = {_num(end)} (horizon {task.horizon} x dt {_num(task.dt)}); its "
+            f"last time is {_num(float(t[-1]))}"
         )
     grid = task.dt * np.arange(task.horizon + 1)
     return np.column_stack([np.interp(grid, t, xy[:, 0]), np.interp(grid, t, xy[:, 1])])
@@ -461,8 +461,8 @@ def _check_states(model: Dynamics, states: F, rollout: F) -> _Found:
             kind="dynamics",
             step=k,
             message=f"step {k}: the given state {model.state_names[j]} = {_num(float(states[k, j]))} does "
-            f"not match the rollout of the inputs, {_num(float(rollout[k, j]))} "
-            "(the rollout is what is checked)",
+            f"not match the rollout of the inputs, {_num(float(rollout[k, j]))} (the rollout is what is "
+            "checked)",
         )
 
     return _found(bad_steps, build)
@@ -566,9 +566,8 @@ def _tracking(task: TrackingTask, traj: _Trajectory, metrics: dict[str, float]) 
             step=k_max,
             point=(float(traj.positions[k_max, 0]), float(traj.positions[k_max, 1])),
             message=f"the mean position error over the {len(err)} steps is {_num(mean)}, not below the "
-            f"tolerance {_num(task.tolerance)}; the largest error is {_num(float(err[k_max]))} "
-            f"at step {k_max} "
-            f"(position {_pt(traj.positions[k_max])}, reference {_pt(ref[k_max])})",
+            f"tolerance {_num(task.tolerance)}; the largest error is {_num(float(err[k_max]))} at step "
+            f"{k_max} (position {_pt(traj.positions[k_max])}, reference {_pt(ref[k_max])})",
         )
     )
 

@@ -90,8 +90,8 @@ def describe_obstacle(shape: Obstacle | Workspace) -> str:
     if isinstance(shape, Square):
         (cx, cy), h = shape.center, shape.half_side
         return (
-            f"square centred at {_pt(shape.center)}, half side {fmt(h)} (side length {fmt(2 * h)}; covers "
-            f"x in [{fmt(cx - h)}, {fmt(cx + h)}], y in [{fmt(cy - h)}, {fmt(cy + h)}])"
+            f"square centred at {_pt(shape.center)}, half side {fmt(h)} (side length {fmt(2 * h)}; covers x "
+            f"in [{fmt(cx - h)}, {fmt(cx + h)}], y in [{fmt(cy - h)}, {fmt(cy + h)}])"
         )
     if isinstance(shape, Rectangle | Workspace):
         what = "rectangle" if isinstance(shape, Rectangle) else "workspace"
@@ -112,8 +112,7 @@ def _conventions(kinds: Iterable[str], margin: float, *, regions: bool = False) 
         lines.append("- a circle is given by its centre and radius;")
     lines.append(
         "- a square is axis-aligned and given by its centre and its HALF side h (the distance from the "
-        "centre "
-        "to each edge): it covers [cx - h, cx + h] x [cy - h, cy + h], so its side length is 2 h;"
+        "centre to each edge): it covers [cx - h, cx + h] x [cy - h, cy + h], so its side length is 2 h;"
     )
     if "rectangle" in kinds:
         lines.append(
@@ -257,8 +256,7 @@ def _robot_lines(task: AnyTask, model: Dynamics) -> list[str]:
     method = "Euler" if task.integrator == "euler" else "classical Runge-Kutta (RK4)"
     lines.append(
         f"Time: dt = {fmt(task.dt)} s, horizon {task.horizon} steps (states at steps 0..{task.horizon}, "
-        "inputs "
-        f"at steps 0..{task.horizon - 1}; {method} step, input u[k] held from step k to k+1)."
+        f"inputs at steps 0..{task.horizon - 1}; {method} step, input u[k] held from step k to k+1)."
     )
     lo = np.asarray(task.u_min if task.u_min is not None else model.input_lower, dtype=float)
     hi = np.asarray(task.u_max if task.u_max is not None else model.input_upper, dtype=float)
@@ -280,32 +278,28 @@ def _solution_lines(task: AnyTask) -> list[str]:
     if model is None:
         return [
             "Solution: waypoints, an array of shape (k, 2) with one row (x, y) per waypoint, in order, k >= "
-            "1; "
-            "the path is the polyline through them (a straight segment between consecutive waypoints)."
+            "1; the path is the polyline through them (a straight segment between consecutive waypoints)."
         ]
     h = task.horizon
     lines = [
         f"Solution: inputs, an array of shape ({h}, {model.n_u}), row k = {_names(model.input_names)} "
-        "applied "
-        f"from step k to k+1; the states are the rollout of the inputs from x0 with the step above."
+        "applied from step k to k+1; the states are the rollout of the inputs from x0 with the step above"
+        + (f" (an array of shape ({h},) is accepted too)." if model.n_u == 1 else ".")
     ]
     kinds = task.solution_kinds
     if "states" in kinds:
         lines.append(
             f"Or: states, an array of shape ({h + 1}, {model.n_x}), row k = {_names(model.state_names)} at "
-            "step k; "
-            f"the inputs are then (states[k+1] - states[k]) / dt and must respect the bounds, and states[0] "
-            f"must be within {fmt(task.start_tolerance)} of x0."
+            "step k; the inputs are then (states[k+1] - states[k]) / dt and must respect the bounds, and "
+            f"states[0] must be within {fmt(task.start_tolerance)} of x0."
         )
     if "timed_waypoints" in kinds:
         end = fmt(h * task.dt)
         lines.append(
             "Or: timed waypoints, an array of shape (k, 3) with rows (x, y, t), t in seconds strictly "
-            "increasing "
-            f"from t = 0 to at least t = {end}; the positions at t = 0, {fmt(task.dt)}, ..., {end} are "
-            "obtained "
-            f"by linear interpolation and checked as states (so the velocity between consecutive resampled "
-            f"positions must respect the input bounds)."
+            f"increasing from t = 0 to at least t = {end}; the positions at t = 0, {fmt(task.dt)}, ..., "
+            f"{end} are obtained by linear interpolation and checked as states (so the velocity between "
+            "consecutive resampled positions must respect the input bounds)."
         )
     return lines
 
@@ -317,8 +311,7 @@ def _geometry_criteria(task: AnyTask, where: str) -> list[str]:
         shapes = "obstacle or wall" if isinstance(task, MazeTask) else "obstacle"
         out.append(
             "no position and no straight segment between consecutive positions enters an "
-            f"{shapes}{inflated}; "
-            "segments are checked exactly, not sampled"
+            f"{shapes}{inflated}; segments are checked exactly, not sampled"
         )
     return out
 
@@ -336,17 +329,20 @@ def _criteria(task: AnyTask) -> list[str]:
     if isinstance(task, TrackingTask):
         items.append(
             f"the mean, over steps 0..{task.horizon}, of the Euclidean distance between the robot's position "
-            "and "
-            f"the reference position is below {fmt(task.tolerance)}"
+            f"and the reference position is below {fmt(task.tolerance)}"
         )
     elif isinstance(task, ReachAvoidTask):
         if task.goal_on == "state" and model is not None:
             angles = ", ".join(model.state_names[i] for i in task.angle_indices)
-            wrap = f", with the differences of the angles {angles} wrapped to [-pi, pi)" if angles else ""
+            plural = "s" if len(task.angle_indices) > 1 else ""
+            wrap = (
+                f", with the difference{plural} of the angle{plural} {angles} wrapped to [-pi, pi)"
+                if angles
+                else ""
+            )
             items.append(
                 f"the final state is within {fmt(task.goal_tolerance)} of the goal state (Euclidean norm of "
-                "the "
-                f"state difference{wrap})"
+                f"the state difference{wrap})"
             )
         else:
             last = "the last waypoint" if model is None else f"the position at step {task.horizon}"
@@ -371,7 +367,7 @@ def _reference_lines(task: TrackingTask) -> list[str]:
         names = _names(model.state_names) if model is not None else "states"
         head = (
             f"Reference: {len(ref)} states {names}, one per step 0..{task.horizon}; the robot's position is "
-            f"compared with the position of each reference state:"
+            "compared with the position of each reference state:"
         )
     return [head, f"[{rows}]"]
 
@@ -382,24 +378,18 @@ def _maze_lines(task: MazeTask) -> list[str]:
     t = fmt(task.wall_thickness)
     lines = [
         f"Maze: the workspace is divided into {task.rows} rows x {task.cols} columns of cells, each {fmt(w)} "
-        "wide "
-        f"(x) and {fmt(h)} high (y). Cell (r, c) has row r counted from the bottom (row 0 has the smallest "
-        "y) "
-        f"and column c from the left: it spans x in [{fmt(ws.xmin)} + c*{fmt(w)}, {fmt(ws.xmin)} + "
-        f"(c+1)*{fmt(w)}], "
-        f"y in [{fmt(ws.ymin)} + r*{fmt(h)}, {fmt(ws.ymin)} + (r+1)*{fmt(h)}].",
+        f"wide (x) and {fmt(h)} high (y). Cell (r, c) has row r counted from the bottom (row 0 has the "
+        f"smallest y) and column c from the left: it spans x in [{fmt(ws.xmin)} + c*{fmt(w)}, {fmt(ws.xmin)} "
+        f"+ (c+1)*{fmt(w)}], y in [{fmt(ws.ymin)} + r*{fmt(h)}, {fmt(ws.ymin)} + (r+1)*{fmt(h)}].",
         f"Walls: every border between two neighbouring cells is a wall of thickness {t}, centred on the "
-        "border "
-        f"line (a wall on the line x = X covers x in [X - {fmt(task.wall_thickness / 2)}, "
-        f"X + {fmt(task.wall_thickness / 2)}]), except where a door opens it. The outer edge of the "
-        "workspace "
+        f"border line (a wall on the line x = X covers x in [X - {fmt(task.wall_thickness / 2)}, X + "
+        f"{fmt(task.wall_thickness / 2)}]), except where a door opens it. The outer edge of the workspace "
         "has no wall (the workspace bounds apply).",
     ]
     if task.margin > 0:
         lines.append(
             f"Walls are inflated by the margin {fmt(task.margin)} like the obstacles, so a door of width W "
-            "leaves "
-            f"a passage of width W - {fmt(2 * task.margin)}."
+            f"leaves a passage of width W - {fmt(2 * task.margin)}."
         )
     if not task.doors:
         lines.append("Doors: none.")
@@ -412,13 +402,13 @@ def _maze_lines(task: MazeTask) -> list[str]:
             half = door.width / 2
             if orient == "v":
                 where = (
-                    f"in the wall on x = {fmt(centre[0])}, from y = {fmt(centre[1] - half)} to "
-                    f"y = {fmt(centre[1] + half)}"
+                    f"in the wall on x = {fmt(centre[0])}, from y = {fmt(centre[1] - half)} to y = "
+                    f"{fmt(centre[1] + half)}"
                 )
             else:
                 where = (
-                    f"in the wall on y = {fmt(centre[1])}, from x = {fmt(centre[0] - half)} to "
-                    f"x = {fmt(centre[0] + half)}"
+                    f"in the wall on y = {fmt(centre[1])}, from x = {fmt(centre[0] - half)} to x = "
+                    f"{fmt(centre[0] + half)}"
                 )
             lines.append(
                 f"- door {i} connects cells {a} and {b}: an opening of width {fmt(door.width)} {where}"
@@ -438,20 +428,17 @@ def _stl_lines(task: STLTask) -> list[str]:
     lines += [f"- {name}: {describe_obstacle(shape)}" for name, shape in sorted(task.regions.items())]
     lines.append(
         "in(R) holds when the position is strictly inside region R; ! is not, & is and, | is or, -> is "
-        "implies; "
-        "G[a,b] f: f holds at every step a..b from now; F[a,b] f: f holds at some step a..b from now; "
-        "f U[a,b] g: g holds at some step a..b from now and f at every step before it."
+        "implies; G[a,b] f: f holds at every step a..b from now; F[a,b] f: f holds at some step a..b from "
+        "now; f U[a,b] g: g holds at some step a..b from now and f at every step before it."
     )
     lines.append("Reading, clause by clause (all must hold, evaluated at step 0):")
     lines += describe_formula(formula)
     lines.append(
         "Robustness: how well the specification holds, in metres (positive: satisfied with that margin; "
         "negative: violated by that much). For in(R) it is, for a rectangle or square R, the least of the "
-        "four "
-        "margins x - xmin, xmax - x, y - ymin, ymax - y; for a circle, radius minus the distance to the "
-        "centre; "
-        "for a polygon, the distance to its boundary (negative outside). ! negates it, & and G take the "
-        "minimum, | and F the maximum."
+        "four margins x - xmin, xmax - x, y - ymin, ymax - y; for a circle, radius minus the distance to the "
+        "centre; for a polygon, the distance to its boundary (negative outside). ! negates it, & and G take "
+        "the minimum, | and F the maximum."
     )
     return lines
 
@@ -507,8 +494,7 @@ def describe(task: AnyTask) -> str:
         sections.append(
             [
                 "Robot: a point that moves along straight segments between consecutive waypoints (no "
-                "dynamics, "
-                "no time).",
+                "dynamics, no time).",
                 f"Start: {_pt(task.x0)}.",
             ]
         )
@@ -518,8 +504,7 @@ def describe(task: AnyTask) -> str:
     sections.append(
         [
             f"Workspace: x in [{fmt(ws.xmin)}, {fmt(ws.xmax)}], y in [{fmt(ws.ymin)}, {fmt(ws.ymax)}] "
-            "(metres); "
-            "every position must stay inside it (the boundary is allowed)."
+            "(metres); every position must stay inside it (the boundary is allowed)."
         ]
     )
     if isinstance(task, MazeTask):
