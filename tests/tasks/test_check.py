@@ -239,6 +239,23 @@ def test_a_diverging_rollout_is_a_violation_not_an_error() -> None:
     assert report.metrics == {}
 
 
+@pytest.mark.parametrize("magnitude", [1e150, 1e300])
+def test_absurd_coordinates_fail_quietly(magnitude: float) -> None:
+    obstacles = [
+        {"kind": "square", "center": [5.0, 5.0], "half_side": 1.0},
+        {"kind": "polygon", "vertices": [[1.0, 5.0], [2.0, 5.0], [1.5, 6.0]]},
+    ]
+    t = task(RA_PATH, obstacles=obstacles)
+    report = t.check(np.array([[1.0, 1.0], [magnitude, magnitude]]))  # no warning escapes (-W error)
+    assert not report.success
+    assert report.violation_counts["workspace"] == 1
+    exponent = int(math.log10(magnitude))
+    assert (
+        f"waypoint 1: position (1e+{exponent}, 1e+{exponent}) is outside the workspace"
+        in report.violations[0].message
+    )
+
+
 # ----------------------------------------------------------------------------------------- STL
 
 # A trajectory for KEY_DOOR that picks up the key A at step 3, passes the door D at step 5 and is in the

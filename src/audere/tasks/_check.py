@@ -690,26 +690,32 @@ def check(task: AnyTask, solution: object) -> CheckReport:
 
     world = task.world(inflated=True)
     found = list(traj.found)
-    found.append(_check_workspace(task, world, traj))
-    found.append(_check_collisions(task, world, traj))
     metrics: dict[str, float] = {}
     clauses: list[ClauseResult] = []
-    if traj.complete:
-        if isinstance(task, TrackingTask):
-            found.append(_tracking(task, traj, metrics))
-        elif isinstance(task, ReachAvoidTask | MazeTask):
-            found.append(_goal(task, traj, metrics))
-        else:
-            stl_found, clauses = _stl(task, traj, metrics)
-            found.append(stl_found)
     p = traj.positions
-    if traj.complete:
-        if len(world.obstacles):
-            metrics["min_clearance"] = float(world.clearance(p))
-        if isinstance(task, ReachAvoidTask | MazeTask):
-            metrics["path_length"] = _path_length(p)
-        if isinstance(task, MazeTask):
-            metrics["cells_visited"] = float(_cells_visited(task, p))
+    # Absurd but finite positions (say 1e200, from a wild rollout) overflow squared distances; they are
+    # outside the workspace, so the verdict does not depend on those values: keep numpy quiet.
+    with np.errstate(over="ignore", invalid="ignore"):
+        found.append(_check_workspace(task, world, traj))
+        found.append(_check_collisions(task, world, traj))
+        if traj.complete:
+            if isinstance(task, TrackingTask):
+                found.append(_tracking(task, traj, metrics))
+            elif isinstance(task, ReachAvoidTask | MazeTask):
+                found.append(_goal(task, traj, metrics))
+            else:
+                stl_found, clauses = _stl(task, traj, metrics)
+                found.append(stl_found)
+            if len(world.obstacles):
+                try:
+                    with np.errstate(over="raise", invalid="raise"):
+                        metrics["min_clearance"] = float(world.clearance(p))
+                except FloatingPointError:  # absurd coordinates: no meaningful clearance
+                    pass
+            if isinstance(task, ReachAvoidTask | MazeTask):
+                metrics["path_length"] = _path_length(p)
+            if isinstance(task, MazeTask):
+                metrics["cells_visited"] = float(_cells_visited(task, p))
 
     counts: dict[str, int] = {}
     everything: list[Violation] = []
