@@ -124,3 +124,28 @@ def random_points(rng: np.random.Generator, n: int, *, grid: bool = False) -> ND
 
 
 KINDS = ("circle", "square", "rectangle", "polygon")
+
+
+def exact_circle_segment_sign(
+    p: NDArray[np.float64], q: NDArray[np.float64], circle: Circle
+) -> NDArray[np.int8]:
+    """Sign of (distance from the circle's centre to the closed segment) - radius, in exact rationals."""
+    from fractions import Fraction
+
+    out = np.empty(len(p), dtype=np.int8)
+    cx, cy = (Fraction(v) for v in circle.center)
+    rr = Fraction(circle.radius) ** 2
+    for i, (a, b) in enumerate(zip(p, q, strict=True)):
+        ax, ay, bx, by = (Fraction(float(v)) for v in (*a, *b))
+        # closest point of the segment to the centre: minimise a quadratic in t over [0, 1]
+        dx, dy = bx - ax, by - ay
+        dd = dx * dx + dy * dy
+        t = (
+            Fraction(0)
+            if dd == 0
+            else min(max(((cx - ax) * dx + (cy - ay) * dy) / dd, Fraction(0)), Fraction(1))
+        )
+        ex, ey = ax + t * dx - cx, ay + t * dy - cy
+        d2 = ex * ex + ey * ey
+        out[i] = (d2 > rr) - (d2 < rr)
+    return out

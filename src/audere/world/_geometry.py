@@ -47,6 +47,9 @@ GroupKind = Literal["circle", "box", "polygon"]
 _MITRE_LIMIT = 5.0
 """Mitre joins of an inflated polygon reach at most this many margins from the original vertex."""
 
+_MIN_RELATIVE_MARGIN = 1e-12
+"""Polygon margins below this fraction of the coordinates' magnitude are rounded up to it."""
+
 _SHAPE_TYPES = (Circle, Square, Rectangle, Polygon)
 
 
@@ -408,7 +411,8 @@ def inflate(shape: Shape, margin: float) -> Shape:
     - rectangle: every side moved out by ``margin`` (corners as for the square);
     - polygon: mitred offset, every edge moved out by ``margin`` and neighbouring edges extended until
       they meet; at very sharp vertices the spike is cut square at ``5 * margin`` from the vertex.
-      Notches narrower than ``2 * margin`` fill up, holes that would appear are filled.
+      Notches narrower than ``2 * margin`` fill up, holes that would appear are filled, and a margin
+      below ``1e-12`` times the largest coordinate is rounded up to that.
 
     Parameters
     ----------
@@ -432,7 +436,10 @@ def inflate(shape: Shape, margin: float) -> Shape:
         return Square(center=shape.center, half_side=shape.half_side + m)
     if isinstance(shape, Rectangle):
         return Rectangle(xmin=shape.xmin - m, xmax=shape.xmax + m, ymin=shape.ymin - m, ymax=shape.ymax + m)
-    grown = shapely.buffer(shapely.Polygon(shape.vertices), m, join_style="mitre", mitre_limit=_MITRE_LIMIT)
+    original = shapely.Polygon(shape.vertices)
+    # The offset is computed in floating point: margins too small to resolve are rounded up.
+    floor = _MIN_RELATIVE_MARGIN * max(1.0, float(np.max(np.abs(shapely.get_coordinates(original)))))
+    grown = shapely.buffer(original, max(m, floor), join_style="mitre", mitre_limit=_MITRE_LIMIT)
     coords = np.asarray(grown.exterior.coords)[:-1]
     return Polygon(vertices=tuple((float(x), float(y)) for x, y in coords))
 

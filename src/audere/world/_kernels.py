@@ -47,9 +47,13 @@ _PAIRS = ((0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3))
 
 
 def safe_div(num: F, den: F) -> F:
-    """``num / den`` where ``den != 0``, else 0 (no floating-point warnings)."""
+    """``num / den`` where ``den != 0``, else 0 (no floating-point warnings).
+
+    A subnormal ``den`` may overflow the quotient to infinity; callers clip or ignore such values.
+    """
     ok = den != 0
-    return np.asarray(np.where(ok, num / np.where(ok, den, 1.0), 0.0))
+    with np.errstate(over="ignore"):
+        return np.asarray(np.where(ok, num / np.where(ok, den, 1.0), 0.0))
 
 
 def point_segment_distance(x: F, y: F, ax: F, ay: F, bx: F, by: F) -> F:
