@@ -253,7 +253,10 @@ def test_absurd_coordinates_fail_quietly(magnitude: float) -> None:
     collision, outside = report.violations[:2]
     assert (collision.kind, outside.kind) == ("collision", "workspace")
     assert collision.point == pytest.approx((4.0, 4.0))  # the diagonal still enters the square at its corner
-    assert f"waypoint 1: position (1e+{exponent}, 1e+{exponent}) is outside the workspace" in outside.message
+    assert (
+        f"waypoint 1: position (1.000e+{exponent}, 1.000e+{exponent}) is outside the workspace"
+        in outside.message
+    )
 
 
 # ----------------------------------------------------------------------------------------- STL

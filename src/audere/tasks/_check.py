@@ -30,6 +30,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 from audere.errors import InvalidArgumentError
+from audere.tasks._describe import names_tuple as _names
+from audere.tasks._feedback import format_value as _num
 from audere.tasks._feedback import preview_steps
 from audere.tasks._models import MazeTask, ReachAvoidTask, STLTask, TrackingTask
 from audere.tasks._report import CheckReport, ClauseResult, Violation
@@ -96,21 +98,12 @@ class _Trajectory:
 # --------------------------------------------------------------------------------------- helpers
 
 
-def _num(value: float) -> str:
-    text = f"{value:.4g}" if abs(value) >= 1e4 or (0 < abs(value) < 1e-3) else f"{value:.3f}"
-    return "0.000" if text == "-0.000" else text
-
-
 def _pt(p: NDArray[Any] | tuple[float, float]) -> str:
     return f"({_num(float(p[0]))}, {_num(float(p[1]))})"
 
 
 def _vec(v: NDArray[Any]) -> str:
     return "(" + ", ".join(_num(float(a)) for a in v) + ")"
-
-
-def _labels(names: tuple[str, ...] | list[str]) -> str:
-    return "(" + ", ".join(names) + ")"
 
 
 def _found(steps: NDArray[np.intp], build: Callable[[int], Violation]) -> _Found:
@@ -129,9 +122,9 @@ def _expected(task: AnyTask) -> str:
     if model is None:
         return "waypoints: an array of shape (k, 2), one row (x, y) per waypoint, k >= 1"
     h = task.horizon
-    parts = [f"inputs: an array of shape ({h}, {model.n_u}) {_labels(model.input_names)}, one row per step"]
+    parts = [f"inputs: an array of shape ({h}, {model.n_u}) {_names(model.input_names)}, one row per step"]
     if "states" in task.solution_kinds:
-        parts.append(f"states: an array of shape ({h + 1}, {model.n_x}) {_labels(model.state_names)}")
+        parts.append(f"states: an array of shape ({h + 1}, {model.n_x}) {_names(model.state_names)}")
     if "timed_waypoints" in task.solution_kinds:
         parts.append(
             "timed waypoints: an array of shape (k, 3) with rows (x, y, t), or waypoints (k, 2) with times "
@@ -294,7 +287,7 @@ def _shaped(task: AnyTask, arrays: dict[str, F]) -> dict[str, F]:
             u = u.reshape(h, 1)
         if u.shape != (h, model.n_u):
             raise _Malformed(
-                f"inputs must have shape ({h}, {model.n_u}) {_labels(model.input_names)} (horizon {h} rows); "
+                f"inputs must have shape ({h}, {model.n_u}) {_names(model.input_names)} (horizon {h} rows); "
                 f"got {_describe_array(u)}"
             )
         _require_finite(u, "inputs", tuple(model.input_names))
@@ -303,7 +296,7 @@ def _shaped(task: AnyTask, arrays: dict[str, F]) -> dict[str, F]:
         x = arrays["states"]
         if x.shape != (h + 1, model.n_x):
             raise _Malformed(
-                f"states must have shape ({h + 1}, {model.n_x}) {_labels(model.state_names)} (horizon + 1 = "
+                f"states must have shape ({h + 1}, {model.n_x}) {_names(model.state_names)} (horizon + 1 = "
                 f"{h + 1} rows); got {_describe_array(x)}"
             )
         _require_finite(x, "states", tuple(model.state_names))
@@ -607,13 +600,12 @@ def _goal(task: ReachAvoidTask | MazeTask, traj: _Trajectory, metrics: dict[str,
 
 
 def _stl(task: STLTask, traj: _Trajectory, metrics: dict[str, float]) -> tuple[_Found, list[ClauseResult]]:
-    from audere.stl import explain, robustness
+    from audere.stl import explain
 
-    regions = dict(task.regions)
     formula = task.formula
-    rho = float(robustness(formula, traj.positions, regions))
-    metrics["robustness"] = rho
-    reports = explain(formula, traj.positions, regions, max_clauses=max(1, len(formula.clauses())))
+    reports = explain(formula, traj.positions, dict(task.regions), max_clauses=max(1, len(formula.clauses())))
+    # The formula is the conjunction of its clauses: its robustness is their minimum.
+    metrics["robustness"] = min(c.robustness for c in reports)
     clauses = [
         ClauseResult(
             text=c.text,

@@ -24,7 +24,7 @@ if TYPE_CHECKING:
     from audere.stl import Formula
     from audere.world import Obstacle, Workspace
 
-__all__ = ["describe", "describe_formula", "describe_obstacle", "fmt"]
+__all__ = ["describe", "describe_formula", "describe_obstacle", "fmt", "names_tuple"]
 
 AnyTask = TrackingTask | ReachAvoidTask | MazeTask | STLTask
 
@@ -62,8 +62,23 @@ def _pt(p: Sequence[float] | np.ndarray, *, decimals: int = 2, max_decimals: int
     return "(" + ", ".join(fmt(float(a), decimals=decimals, max_decimals=max_decimals) for a in p) + ")"
 
 
-def _names(names: Iterable[str]) -> str:
+def names_tuple(names: Iterable[str]) -> str:
+    """Names as a parenthesized list, e.g. ``"(omega, a)"``.
+
+    Parameters
+    ----------
+    names
+        State or input names.
+
+    Returns
+    -------
+    str
+        The names in parentheses, separated by commas.
+    """
     return "(" + ", ".join(names) + ")"
+
+
+_names = names_tuple
 
 
 # --------------------------------------------------------------------------------------- shapes

@@ -44,7 +44,8 @@ def format_value(value: float) -> str:
     magnitude = abs(value)
     if magnitude >= 1e5 or 0 < magnitude < 1e-3:
         return f"{value:.3e}"
-    return f"{value:.3f}"
+    text = f"{value:.3f}"
+    return "0.000" if text == "-0.000" else text
 
 
 def preview_steps(n: int, *, max_points: int = 11) -> np.ndarray:
