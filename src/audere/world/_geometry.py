@@ -475,47 +475,61 @@ def bounding_box(shape: Obstacle | Workspace) -> Rectangle:
     )
 
 
-def _num(value: float) -> str:
-    text = f"{value:.2f}"
-    return "0.00" if text == "-0.00" else text
+def format_number(value: float, decimals: int = 2) -> str:
+    """``value`` with ``decimals`` decimals, never ``-0.00``."""
+    text = f"{value:.{decimals}f}"
+    return text[1:] if text.startswith("-") and float(text) == 0 else text
 
 
-def _pt(point: tuple[float, float]) -> str:
-    return f"({_num(point[0])}, {_num(point[1])})"
+def format_point(point: tuple[float, float] | Sequence[float], decimals: int = 2) -> str:
+    """``(x, y)`` with ``decimals`` decimals."""
+    return f"({format_number(point[0], decimals)}, {format_number(point[1], decimals)})"
 
 
-def _bounds_text(shape: Rectangle | Workspace) -> str:
-    return f"x in [{_num(shape.xmin)}, {_num(shape.xmax)}], y in [{_num(shape.ymin)}, {_num(shape.ymax)}]"
+def _bounds_text(shape: Rectangle | Workspace, n: int) -> str:
+    return (
+        f"x in [{format_number(shape.xmin, n)}, {format_number(shape.xmax, n)}], "
+        f"y in [{format_number(shape.ymin, n)}, {format_number(shape.ymax, n)}]"
+    )
 
 
-def describe_shape(shape: Obstacle | Workspace) -> str:
-    """A short exact description of a shape, numbers with two decimals.
+def as_decimals(decimals: int) -> int:
+    """Validate a number of decimals: an integer from 0 to 12."""
+    if isinstance(decimals, bool) or not isinstance(decimals, int | np.integer) or not 0 <= decimals <= 12:
+        raise InvalidArgumentError(f"decimals must be an integer from 0 to 12, got {decimals!r}")
+    return int(decimals)
+
+
+def describe_shape(shape: Obstacle | Workspace, *, decimals: int = 2) -> str:
+    """A short exact description of a shape, numbers rounded to ``decimals`` decimals.
 
     Examples: ``"circle centred at (3.20, 4.10), radius 1.25"``, ``"square centred at (5.00, 5.00),
     half side 0.50 (side length 1.00)"``, ``"rectangle x in [1.00, 2.00], y in [3.00, 4.50]"``,
     ``"polygon with vertices (0.00, 0.00), (2.00, 0.00), (1.00, 1.50)"``,
-    ``"workspace x in [0.00, 10.00], y in [0.00, 10.00]"``.
+    ``"workspace x in [0.00, 10.00], y in [0.00, 10.00]"``. Shapes whose numbers have at most
+    ``decimals`` decimals are described exactly.
 
     Parameters
     ----------
     shape
         A :class:`Circle`, :class:`Square`, :class:`Rectangle`, :class:`Polygon` or :class:`Workspace`.
+    decimals
+        Decimals of every number, 0 to 12.
 
     Returns
     -------
     str
         One line, no trailing period.
     """
+    n = as_decimals(decimals)
     if isinstance(shape, Workspace):
-        return f"workspace {_bounds_text(shape)}"
+        return f"workspace {_bounds_text(shape, n)}"
     shape = as_shape(shape)
     if isinstance(shape, Circle):
-        return f"circle centred at {_pt(shape.center)}, radius {_num(shape.radius)}"
+        return f"circle centred at {format_point(shape.center, n)}, radius {format_number(shape.radius, n)}"
     if isinstance(shape, Square):
-        return (
-            f"square centred at {_pt(shape.center)}, half side {_num(shape.half_side)} "
-            f"(side length {_num(2 * shape.half_side)})"
-        )
+        half, side = format_number(shape.half_side, n), format_number(2 * shape.half_side, n)
+        return f"square centred at {format_point(shape.center, n)}, half side {half} (side length {side})"
     if isinstance(shape, Rectangle):
-        return f"rectangle {_bounds_text(shape)}"
-    return "polygon with vertices " + ", ".join(_pt(v) for v in shape.vertices)
+        return f"rectangle {_bounds_text(shape, n)}"
+    return "polygon with vertices " + ", ".join(format_point(v, n) for v in shape.vertices)

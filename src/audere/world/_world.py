@@ -12,11 +12,13 @@ from pydantic import BaseModel, ConfigDict
 from audere._arrays import as_float_array
 from audere.world._geometry import (
     Group,
+    as_decimals,
     as_margin,
     as_points,
     as_segments,
     describe_shape,
     finish,
+    format_point,
     inflate,
     pack,
     xy,
@@ -54,8 +56,13 @@ class Collision(BaseModel):
     obstacle: Obstacle
     kind: Literal["point", "segment"]
 
-    def describe(self) -> str:
-        """One line of text saying where the path collides, numbers with two decimals.
+    def describe(self, *, decimals: int = 2) -> str:
+        """One line of text saying where the path collides.
+
+        Parameters
+        ----------
+        decimals
+            Decimals of every number, 0 to 12.
 
         Returns
         -------
@@ -63,8 +70,9 @@ class Collision(BaseModel):
             E.g. ``"segment 3 (waypoint 3 to waypoint 4) enters obstacle 1 (circle centred at (5.00, 5.00),
             radius 1.00) at (4.00, 5.00)"``.
         """
-        where = f"({self.point[0]:.2f}, {self.point[1]:.2f})".replace("-0.00", "0.00")
-        shape = describe_shape(self.obstacle)
+        n = as_decimals(decimals)
+        where = format_point(self.point, n)
+        shape = describe_shape(self.obstacle, decimals=n)
         if self.kind == "point":
             return f"waypoint {self.index} at {where} is inside obstacle {self.obstacle_index} ({shape})"
         return (
@@ -304,16 +312,23 @@ class World(BaseModel):
         m = as_margin(margin)
         return World(workspace=self.workspace, obstacles=tuple(inflate(o, m) for o in self.obstacles))
 
-    def describe(self) -> str:
-        """The workspace and each numbered obstacle, one per line, numbers with two decimals.
+    def describe(self, *, decimals: int = 2) -> str:
+        """The workspace and each numbered obstacle, one per line.
+
+        Parameters
+        ----------
+        decimals
+            Decimals of every number, 0 to 12.
 
         Returns
         -------
         str
-            Several lines, the first describing the workspace.
+            Several lines, the first describing the workspace, then ``"obstacle 0: circle centred at
+            ..."`` and so on (or ``"no obstacles"``).
         """
-        lines = [describe_shape(self.workspace)]
+        n = as_decimals(decimals)
+        lines = [describe_shape(self.workspace, decimals=n)]
         if not self.obstacles:
             lines.append("no obstacles")
-        lines.extend(f"obstacle {i}: {describe_shape(o)}" for i, o in enumerate(self.obstacles))
+        lines.extend(f"obstacle {i}: {describe_shape(o, decimals=n)}" for i, o in enumerate(self.obstacles))
         return "\n".join(lines)
