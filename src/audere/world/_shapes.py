@@ -44,7 +44,15 @@ class Workspace(_Frozen):
 
 
 class Circle(_Frozen):
-    """A disc of the given centre and radius."""
+    """A disc of the given centre and radius.
+
+    Attributes
+    ----------
+    center
+        ``(x, y)``, metres.
+    radius
+        Metres, > 0.
+    """
 
     kind: Literal["circle"] = "circle"
     center: Point
@@ -52,7 +60,15 @@ class Circle(_Frozen):
 
 
 class Square(_Frozen):
-    """An axis-aligned square given by its centre and half side (side length ``2 * half_side``)."""
+    """An axis-aligned square given by its centre and half side (side length ``2 * half_side``).
+
+    Attributes
+    ----------
+    center
+        ``(x, y)``, metres.
+    half_side
+        Distance from the centre to each edge, metres, > 0; the side length is ``2 * half_side``.
+    """
 
     kind: Literal["square"] = "square"
     center: Point
@@ -60,7 +76,7 @@ class Square(_Frozen):
 
 
 class Rectangle(_Frozen):
-    """An axis-aligned rectangle given by its bounds."""
+    """An axis-aligned rectangle given by its bounds (``xmin < xmax``, ``ymin < ymax``, metres)."""
 
     kind: Literal["rectangle"] = "rectangle"
     xmin: float
@@ -78,12 +94,37 @@ class Rectangle(_Frozen):
 
     @classmethod
     def from_center(cls, cx: float, cy: float, width: float, height: float) -> Rectangle:
-        """Build a rectangle from its centre, width (along x) and height (along y)."""
+        """Build a rectangle from its centre, width (along x) and height (along y).
+
+        Parameters
+        ----------
+        cx
+            Centre x, metres.
+        cy
+            Centre y, metres.
+        width
+            Extent along x, metres, > 0.
+        height
+            Extent along y, metres, > 0.
+
+        Returns
+        -------
+        Rectangle
+            ``xmin = cx - width / 2``, ``xmax = cx + width / 2``, likewise in y.
+        """
         return cls(xmin=cx - width / 2, xmax=cx + width / 2, ymin=cy - height / 2, ymax=cy + height / 2)
 
 
 class Polygon(_Frozen):
-    """A simple polygon (at least three vertices, non-zero area, no self-intersection)."""
+    """A simple polygon (at least three vertices, non-zero area, no self-intersection).
+
+    Attributes
+    ----------
+    vertices
+        ``((x0, y0), (x1, y1), ...)`` in order around the boundary, either orientation, metres; the
+        closing edge from the last vertex back to the first is implied (repeating the first vertex at
+        the end is allowed).
+    """
 
     kind: Literal["polygon"] = "polygon"
     vertices: tuple[Point, ...] = Field(min_length=3)
