@@ -46,8 +46,37 @@ def _orient_exact(ax: float, ay: float, bx: float, by: float, cx: float, cy: flo
     return _sgn((Fraction(bx) - a_x) * (Fraction(cy) - a_y) - (Fraction(by) - a_y) * (Fraction(cx) - a_x))
 
 
+def _diff_is_exact(a: F, b: F) -> NDArray[np.bool_]:
+    """Is ``a - b`` computed without rounding (Knuth's two-difference error term is zero)."""
+    x = a - b
+    bv = a - x
+    av = x + bv
+    return np.asarray(((a - av) + (bv - b)) == 0)
+
+
+_SPLITTER = 134217729.0  # 2**27 + 1
+
+
+def _product_is_exact(a: F, b: F) -> NDArray[np.bool_]:
+    """Is ``a * b`` computed without rounding (Dekker's two-product error term is zero)."""
+    x = a * b
+    ca = _SPLITTER * a
+    a_hi = ca - (ca - a)
+    a_lo = a - a_hi
+    cb = _SPLITTER * b
+    b_hi = cb - (cb - b)
+    b_lo = b - b_hi
+    err = a_lo * b_lo - (((x - a_hi * b_hi) - a_lo * b_hi) - a_hi * b_lo)
+    return np.asarray(err == 0)
+
+
 def orient(ax: F, ay: F, bx: F, by: F, cx: F, cy: F) -> S:
-    """Exact sign of ``(b - a) x (c - a)``: +1 when ``c`` is left of the line ``a -> b``, 0 on it."""
+    """Exact sign of ``(b - a) x (c - a)``: +1 when ``c`` is left of the line ``a -> b``, 0 on it.
+
+    Three stages: the float sign when Shewchuk's error bound certifies it; else the float sign when
+    every difference and product was computed without rounding (common for coordinates on a coarse
+    grid, where only the final subtraction rounds and rounding keeps signs); else exact rationals.
+    """
     left = (bx - ax) * (cy - ay)
     right = (by - ay) * (cx - ax)
     det = left - right
@@ -55,7 +84,23 @@ def orient(ax: F, ay: F, bx: F, by: F, cx: F, cy: F) -> S:
     ambiguous = np.abs(det) <= _ORIENT_BOUND * (np.abs(left) + np.abs(right))
     # An exact zero with both products zero is certain (e.g. axis-aligned data): skip it.
     ambiguous &= (left != 0) | (right != 0)
-    return _refine(sign, np.asarray(ambiguous), (ax, ay, bx, by, cx, cy), _orient_exact)
+    if not ambiguous.any():
+        return sign
+    args = np.broadcast_arrays(ax, ay, bx, by, cx, cy)
+    idx = np.nonzero(ambiguous)
+    a_x, a_y, b_x, b_y, c_x, c_y = (a[idx] for a in args)
+    u1, v1, u2, v2 = b_x - a_x, c_y - a_y, b_y - a_y, c_x - a_x
+    exact = (
+        _diff_is_exact(b_x, a_x)
+        & _diff_is_exact(c_y, a_y)
+        & _diff_is_exact(b_y, a_y)
+        & _diff_is_exact(c_x, a_x)
+        & _product_is_exact(u1, v1)
+        & _product_is_exact(u2, v2)
+    )
+    still = np.zeros(ambiguous.shape, dtype=bool)
+    still[tuple(i[~exact] for i in idx)] = True
+    return _refine(sign, still, (ax, ay, bx, by, cx, cy), _orient_exact)
 
 
 def _point_circle_exact(x: float, y: float, cx: float, cy: float, r: float) -> int:
