@@ -85,7 +85,8 @@ def docs(session: nox.Session) -> None:
     and removes those stubs again (only the ones still holding the stub text). Other arguments go to
     ``mkdocs build``.
     """
-    _install(session, "docs")
+    # ruff too: mkdocstrings formats the separate signatures with it.
+    _install(session, "docs,lint")
     args = list(session.posargs)
     written: list[Path] = []
     if "--placeholders" in args:
