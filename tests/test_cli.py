@@ -169,8 +169,9 @@ def test_scenarios_list_table() -> None:
 
     result = runner.invoke(app, ["scenarios", "list"], env={"COLUMNS": "200"})
     assert result.exit_code == 0, result.output
-    for name in scenarios.list_scenarios():
-        assert str(name) in result.stdout
+    for info in scenarios.list_scenarios():
+        assert info.name in result.stdout
+        assert ", ".join(info.natural_apis) in result.stdout
     for header in ("name", "paper label", "kind", "dynamics", "capabilities", "natural APIs"):
         assert header in result.stdout
 
@@ -181,7 +182,7 @@ def test_scenarios_show_formats(fmt: str, tmp_path: Path) -> None:
     from audere import scenarios
     from audere.tasks import parse_task
 
-    name = scenarios.list_scenarios()[0]
+    name = scenarios.list_scenarios()[0].name
     task = scenarios.make(name, seed=3)
     result = runner.invoke(app, ["scenarios", "show", name, "--seed", "3", "--format", fmt])
     assert result.exit_code == 0, result.output
@@ -196,7 +197,7 @@ def test_scenarios_show_plot(tmp_path: Path) -> None:
     from audere import scenarios
 
     image = tmp_path / "show.png"
-    name = scenarios.list_scenarios()[0]
+    name = scenarios.list_scenarios()[0].name
     result = runner.invoke(app, ["scenarios", "show", name, "--plot", str(image)])
     assert result.exit_code == 0, result.output
     assert image.read_bytes()[:4] == b"\x89PNG"

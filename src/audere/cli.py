@@ -17,6 +17,7 @@ from typing import TYPE_CHECKING, Annotated, Any, NoReturn
 
 import typer
 from pydantic import ValidationError
+from rich import box
 from rich.console import Console
 from rich.markup import escape
 from rich.table import Table
@@ -112,57 +113,38 @@ def _root(
 @scenarios_app.command("list")
 def scenarios_list() -> None:
     """List the scenarios: name, paper label, task kind, dynamics, capabilities, natural APIs."""
-    from audere import scenarios
+    from audere.scenarios import list_scenarios
 
-    table = Table(title="audere scenarios", title_justify="left", show_lines=False)
+    table = Table(box=box.SIMPLE_HEAD, pad_edge=False, header_style="bold")
     table.add_column("name", style="bold cyan", no_wrap=True)
-    table.add_column("paper label")
-    table.add_column("kind")
-    table.add_column("dynamics")
-    table.add_column("capabilities")
-    table.add_column("natural APIs")
-    for info in _scenario_infos(scenarios):
-        table.add_row(*(escape(cell) for cell in info))
-    _stdout().print(table)
-
-
-def _scenario_infos(module: Any) -> list[tuple[str, str, str, str, str, str]]:
-    """One row per scenario: name, paper label, kind, dynamics, capabilities, natural APIs."""
-    rows = []
-    for item in module.list_scenarios():
-        info = module.info(item) if isinstance(item, str) and hasattr(module, "info") else item
-        name = item if isinstance(item, str) else str(getattr(info, "name", item))
-
-        def field(attr: str, info: Any = info) -> str:
-            value = getattr(info, attr, None)
-            if value is None:
-                return "-"
-            if isinstance(value, list | tuple | set | frozenset):
-                return ", ".join(str(v) for v in value) or "-"
-            return str(value)
-
-        dynamics = field("dynamics")
-        rows.append(
-            (
-                name,
-                field("paper_label"),
-                field("kind"),
-                "none (path)" if dynamics in ("-", "None") else dynamics,
-                field("capabilities"),
-                field("natural_apis"),
-            )
+    table.add_column("paper label", min_width=6)
+    table.add_column("kind", min_width=6, overflow="fold")
+    table.add_column("dynamics", min_width=8, overflow="fold")
+    table.add_column("capabilities", min_width=14, ratio=3)
+    table.add_column("natural APIs", min_width=10, ratio=2)
+    for info in list_scenarios():
+        row = (
+            info.name,
+            info.paper_label or "-",
+            info.kind,
+            info.dynamics or "none (path)",
+            ", ".join(info.capabilities),
+            ", ".join(info.natural_apis),
         )
-    return rows
+        table.add_row(*(escape(cell) for cell in row))
+    out = _stdout()
+    if not out.is_terminal:  # piped or captured: do not squeeze the table into 80 columns
+        out.width = max(out.width, 120)
+    out.print(table)
 
 
 def _make(name: str, seed: int) -> AnyTask:
-    from audere import scenarios
+    from audere.scenarios import make
 
     try:
-        task: AnyTask = scenarios.make(name, seed=seed)
-    except (AudereError, ValueError, KeyError, TypeError) as exc:
-        _fail(_one_line(exc) if not isinstance(exc, KeyError) else f"unknown scenario {name!r}")
-    return task
+        return make(name, seed=seed)
+    except AudereError as exc:
+        _fail(_one_line(exc))
 
 
 @scenarios_app.command("show")

@@ -358,6 +358,11 @@ def test_pendulum_bob_and_rod(tmp_path: Path) -> None:
     (first,) = _lines(fig, "robot-start")
     np.testing.assert_allclose(_xy(first), [[0.0, 0.0], [0.0, -1.0]], atol=1e-12)
     np.testing.assert_allclose(_xy(_lines(fig, "goal")[0]), [[0.0, 1.0]], atol=1e-12)  # upright
+    (goal,) = _lines(fig, "robot-goal")
+    np.testing.assert_allclose(_xy(goal), [[0.0, 0.0], [0.0, 1.0]], atol=1e-12)
+    assert not _patches(fig, "goal-tolerance")  # a state tolerance is not a circle in metres
+    (reach,) = _patches(fig, "reach")
+    assert reach.get_radius() == pytest.approx(1.0)  # type: ignore[attr-defined]
     _save(fig, tmp_path / "pendulum.png")
 
 
@@ -376,6 +381,9 @@ def test_arm_end_effector_and_links_at_the_final_state(tmp_path: Path) -> None:
     np.testing.assert_allclose(_xy(final), [(0.0, 0.0), elbow, hand], atol=1e-12)
     np.testing.assert_allclose(_xy(line)[-1], hand, atol=1e-12)
     assert len(_patches(fig, "obstacle")) == 1
+    assert not _lines(fig, "robot-goal")  # the goal is a position here
+    (reach,) = _patches(fig, "reach")
+    assert reach.get_radius() == pytest.approx(2.0)  # type: ignore[attr-defined]
     _save(fig, tmp_path / "arm.png")
 
 
@@ -429,7 +437,7 @@ def test_violation_without_location_is_only_described() -> None:
     fig = plot(task, Solution(inputs=np.zeros((20, 2))), _violation("tracking"))
     assert not _lines(fig, "violation")
     (note,) = _texts(fig, "violation-note")
-    assert note.splitlines()[0] == "first violation: tracking (3 in all)"
+    assert " ".join(note.split()).startswith("first violation: tracking (3 in all) a tracking happened")
 
 
 def test_preview_points_on_request() -> None:
@@ -506,3 +514,64 @@ def test_no_pyplot_state(tmp_path: Path) -> None:
     assert done.returncode == 0, done.stderr
     assert json.loads(done.stdout) == [False, False]
     assert (tmp_path / "x.png").stat().st_size > 0
+
+
+# ---------------------------------------------------------------------------------------- scenarios
+
+
+def _scenario_names() -> list[str]:
+    if importlib.util.find_spec("audere.scenarios") is None:
+        return []
+    from audere.scenarios import list_scenarios
+
+    return [info.name for info in list_scenarios()]
+
+
+def _naive_solution(task: Any) -> Any:
+    """A solution that is easy to write down and (almost always) wrong: a straight line or zero inputs."""
+    model = task.model
+    if model is None:
+        return Solution(waypoints=np.array([task.start, task.goal]))
+    return Solution(inputs=np.zeros((task.horizon, model.n_u)))
+
+
+@pytest.mark.skipif(not _scenario_names(), reason="audere.scenarios is not written yet")
+@pytest.mark.parametrize("name", _scenario_names() or ["none"])
+def test_every_scenario_plots_alone_and_with_a_checked_solution(name: str, tmp_path: Path) -> None:
+    from audere.scenarios import make
+
+    task = make(name, seed=1)
+    fig = plot(task)
+    assert len(_patches(fig, "obstacle")) == len(task.obstacles)
+    if isinstance(task, MazeTask):
+        assert len(_patches(fig, "wall")) == len(task.walls)
+        assert len(_lines(fig, "door")) == len(task.doors)
+    if isinstance(task, STLTask):
+        assert sorted(_texts(fig, "region-label")) == sorted(task.regions)
+    if isinstance(task, TrackingTask):
+        assert len(_lines(fig, "reference")) == 1
+    (start,) = _lines(fig, "start")
+    np.testing.assert_allclose(_xy(start), [task.start])
+    assert not _lines(fig, "trajectory")
+    _legend_outside_map(fig)
+    _save(fig, tmp_path / f"{name}.png")
+
+    solution = _naive_solution(task)
+    report = task.check(solution)
+    fig = plot(task, solution, report, show_preview=True)
+    (line,) = _lines(fig, "trajectory")
+    assert report.positions is not None
+    np.testing.assert_allclose(_xy(line)[-1], report.positions[-1], atol=1e-9)  # the checker saw the same end
+    title = _ax(fig).get_title(loc="left")
+    assert title.startswith(task.name)
+    if not report.success:
+        assert "failure" in title
+        first = report.first_violation
+        assert first is not None
+        located = _lines(fig, "violation")
+        if first.point is not None:
+            (marker,) = located
+            np.testing.assert_allclose(_xy(marker), [first.point])
+        assert _texts(fig, "violation-note")
+    _legend_outside_map(fig)
+    _save(fig, tmp_path / f"{name}-checked.png")

@@ -3,11 +3,12 @@
 Drawn with matplotlib's object API (a :class:`matplotlib.figure.Figure` and its canvas, no pyplot
 state), so it is safe in tests, scripts and notebooks. matplotlib is imported inside :func:`plot`.
 
-Every artist carries a ``gid`` naming what it shows (``"obstacle"``, ``"obstacle-inflated"``,
-``"wall"``, ``"door"``, ``"region"``, ``"region-label"``, ``"start"``, ``"goal"``,
-``"goal-tolerance"``, ``"reference"``, ``"trajectory"``, ``"preview"``, ``"robot-start"``,
-``"robot-final"``, ``"violation"``, ``"violation-label"``, ``"obstacle-hit"``, ``"workspace"``), so
-that callers can find and restyle them and tests can count them.
+Every artist carries a ``gid`` naming what it shows, so that callers can find and restyle them and
+tests can count them: ``workspace``; ``obstacle``, ``obstacle-inflated``, ``obstacle-hit``; ``wall``,
+``wall-inflated``, ``door``; ``region``, ``region-edge``, ``region-label``, ``spec``; ``start``,
+``goal``, ``goal-tolerance``; ``reference``, ``trajectory``, ``preview``; ``base``, ``reach``,
+``robot-start``, ``robot-goal``, ``robot-final``; ``violation``, ``violation-label``,
+``violation-note``.
 """
 
 from __future__ import annotations
@@ -72,7 +73,9 @@ _LEGEND_ORDER = {
             "wall-inflated",
             "door",
             "base",
+            "reach",
             "robot-start",
+            "robot-goal",
             "robot-final",
         )
     )
@@ -96,10 +99,12 @@ def plot(
     The map shows the workspace box, the obstacles (with their outline inflated by ``task.margin``
     dashed when the margin is positive), maze walls (solid, dark) with their doors marked, STL
     regions (translucent, labelled with their names), the start, the goal with its tolerance
-    circle, and a tracking task's reference (dashed, one dot per step). The trajectory comes from
-    ``solution`` (inputs rolled out through the task's model, states, or waypoints), or from
-    ``report.positions`` when only a report is given. For the pendulum and the arm the planar
-    position is the bob or the end effector, and the links are drawn at the first and last state.
+    circle (a goal *state* has no circle: its tolerance is not in metres), and a tracking task's
+    reference (dashed, one dot per step). The trajectory comes from ``solution`` (inputs rolled out
+    through the task's model, states, or waypoints), or from ``report.positions`` when only a
+    report is given. For the pendulum and the arm the planar position is the bob or the end
+    effector; the rod or links are drawn at the start, at a goal state and at the final state,
+    with the circle the robot can reach.
     The first violation of the report is marked with a red cross and its kind and step.
 
     Parameters
@@ -479,6 +484,10 @@ def _draw_start_goal(ax: Axes, task: AnyTask) -> None:
     if isinstance(task, ReachAvoidTask | MazeTask):
         gx, gy = task.goal_position if isinstance(task, ReachAvoidTask) else task.goal
         tol = task.goal_tolerance
+        if isinstance(task, ReachAvoidTask) and task.goal_on == "state":
+            # The tolerance is a distance between states, not metres on the map: no circle.
+            _goal_marker(ax, (gx, gy), f"goal state (tolerance {tol:g})")
+            return
         ax.add_patch(
             patches.Circle(
                 (gx, gy),
@@ -492,50 +501,63 @@ def _draw_start_goal(ax: Axes, task: AnyTask) -> None:
                 gid="goal-tolerance",
             )
         )
-        ax.plot(
-            [gx],
-            [gy],
-            ls="none",
-            marker="*",
-            ms=17,
-            mfc=_GOAL,
-            mec=_GOAL_EDGE,
-            mew=1.0,
-            zorder=10,
-            label="goal",
-            gid="goal",
-        )
+        _goal_marker(ax, (gx, gy), "goal")
+
+
+def _goal_marker(ax: Axes, point: tuple[float, float], label: str) -> None:
+    ax.plot(
+        [point[0]],
+        [point[1]],
+        ls="none",
+        marker="*",
+        ms=17,
+        mfc=_GOAL,
+        mec=_GOAL_EDGE,
+        mew=1.0,
+        zorder=10,
+        label=label,
+        gid="goal",
+    )
 
 
 def _draw_robot(ax: Axes, task: AnyTask, states: F64 | None, labels: _Labels) -> None:
-    """Pendulum rod or arm links at the start and at the final state (planar models only)."""
+    """Pendulum rod or arm links at the start, the final state and a goal state (planar models only)."""
+    from matplotlib import patches
+
     model = task.model
     if model is None or model.name not in ("pendulum", "two_link_arm"):
         return
     params = model.params
     ax.plot([0.0], [0.0], ls="none", marker="s", ms=8, color=_ROBOT, zorder=9, label="base", gid="base")
-    poses = [("robot-start", np.asarray(task.x0, dtype=float), 0.3, "at the start")]
+    reach = params["length"] if model.name == "pendulum" else params["l1"] + params["l2"]
+    ax.add_patch(
+        patches.Circle(
+            (0.0, 0.0), reach, fill=False, ec=_ROBOT, lw=0.8, ls=":", zorder=2, label="reach", gid="reach"
+        )
+    )
+    # (gid, state, style, legend text)
+    poses: list[tuple[str, F64, dict[str, Any], str]] = [
+        ("robot-start", np.asarray(task.x0, dtype=float), {"color": _ROBOT, "alpha": 0.3}, "at the start")
+    ]
+    if isinstance(task, ReachAvoidTask) and task.goal_on == "state":
+        goal = np.asarray(task.goal, dtype=float)
+        poses.append(
+            ("robot-goal", goal, {"color": _GOAL_EDGE, "alpha": 0.8, "ls": "--", "lw": 2.0}, "at the goal")
+        )
     if states is not None and states.shape[0] > 0 and np.all(np.isfinite(states[-1])):
-        poses.append(("robot-final", states[-1], 0.9, "at the final state"))
-    for gid, x, alpha, when in poses:
+        poses.append(("robot-final", states[-1], {"color": _ROBOT, "alpha": 0.9}, "at the final state"))
+    what = "pendulum" if model.name == "pendulum" else "arm"
+    for gid, x, style, when in poses:
         if model.name == "pendulum":
             joints = np.vstack([[0.0, 0.0], model.position(x)])
-            what = "pendulum"
         else:
             q1 = float(x[0])
             elbow = [params["l1"] * np.cos(q1), params["l1"] * np.sin(q1)]
             joints = np.vstack([[0.0, 0.0], elbow, model.position(x)])
-            what = "arm"
         ax.plot(
             joints[:, 0],
             joints[:, 1],
-            "-o",
-            lw=4.0,
-            ms=6,
-            color=_ROBOT,
-            alpha=alpha,
-            solid_capstyle="round",
-            zorder=5,
+            **{"marker": "o", "lw": 4.0, "ms": 6, "solid_capstyle": "round", "zorder": 5, **style},
             label=labels(f"{what} {when}"),
             gid=gid,
         )
@@ -572,7 +594,7 @@ def _draw_violation(ax: Axes, violation: Violation, track: _Track | None, dt: fl
         ms=13,
         mew=3.0,
         color=_VIOLATION,
-        zorder=11,
+        zorder=9.5,  # under the start and goal markers, which stay visible in its middle
         label="first violation",
         gid="violation",
     )
@@ -617,7 +639,7 @@ def _draw_notes(ax: Axes, task: AnyTask, report: CheckReport | None) -> None:
         y += (text.count("\n") + 1) * 8.5 * 1.25 + 8
 
 
-def _wrap(text: str, *, lines: int, width: int = 36) -> str:
+def _wrap(text: str, *, lines: int, width: int = 34) -> str:
     wrapped = textwrap.wrap(" ".join(text.split()), width=width, break_long_words=True)
     if len(wrapped) > lines:
         wrapped = [*wrapped[: lines - 1], wrapped[lines - 1][: width - 3] + "..."]
