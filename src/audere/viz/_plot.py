@@ -3,12 +3,8 @@
 Drawn with matplotlib's object API (a :class:`matplotlib.figure.Figure` and its canvas, no pyplot
 state), so it is safe in tests, scripts and notebooks. matplotlib is imported inside :func:`plot`.
 
-Every artist carries a ``gid`` naming what it shows, so that callers can find and restyle them and
-tests can count them: ``workspace``; ``obstacle``, ``obstacle-inflated``, ``obstacle-hit``; ``wall``,
-``wall-inflated``, ``door``; ``region``, ``region-edge``, ``region-label``, ``spec``; ``start``,
-``goal``, ``goal-tolerance``; ``reference``, ``trajectory``, ``preview``; ``base``, ``reach``,
-``robot-start``, ``robot-goal``, ``robot-final``; ``violation``, ``violation-label``,
-``violation-note``.
+Every artist carries a ``gid`` naming what it shows (listed in the notes of :func:`plot`), so that
+callers can find and restyle them and tests can count them.
 """
 
 from __future__ import annotations
@@ -135,6 +131,14 @@ def plot(
     InvalidArgumentError
         When ``solution`` cannot be turned into positions (wrong field shapes, or a field the task
         has no use for).
+
+    Notes
+    -----
+    Every artist carries a ``gid`` naming what it shows: ``workspace``; ``obstacle``,
+    ``obstacle-inflated``, ``obstacle-hit``; ``wall``, ``wall-inflated``, ``door``; ``region``,
+    ``region-edge``, ``region-label``, ``spec``; ``start``, ``goal``, ``goal-tolerance``;
+    ``reference``, ``trajectory``, ``preview``; ``base``, ``reach``, ``robot-start``,
+    ``robot-goal``, ``robot-final``; ``violation``, ``violation-label``, ``violation-note``.
     """
     if not isinstance(task, TrackingTask | ReachAvoidTask | MazeTask | STLTask):
         raise InvalidArgumentError(
