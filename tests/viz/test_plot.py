@@ -553,8 +553,6 @@ def test_every_scenario_plots_alone_and_with_a_checked_solution(name: str, tmp_p
     (start,) = _lines(fig, "start")
     np.testing.assert_allclose(_xy(start), [task.start])
     assert not _lines(fig, "trajectory")
-    _legend_outside_map(fig)
-    _save(fig, tmp_path / f"{name}.png")
 
     solution = _naive_solution(task)
     report = task.check(solution)
