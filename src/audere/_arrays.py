@@ -69,13 +69,17 @@ def as_float_array(
             f"{name} must be an array of numbers, got {type(value).__name__}: {_short(value)} ({exc})"
         ) from None
     if shape is not None:
-        ok = arr.ndim == len(shape) and all(e is None or e == d for e, d in zip(shape, arr.shape, strict=False))
+        ok = arr.ndim == len(shape) and all(
+            e is None or e == d for e, d in zip(shape, arr.shape, strict=False)
+        )
         if not ok:
             raise InvalidArgumentError(
                 f"{name} must have shape {describe_shape(shape)}, got shape {tuple(arr.shape)}"
             )
     elif ndim is not None and arr.ndim != ndim:
-        raise InvalidArgumentError(f"{name} must be a {ndim}-D array, got a {arr.ndim}-D array of shape {arr.shape}")
+        raise InvalidArgumentError(
+            f"{name} must be a {ndim}-D array, got a {arr.ndim}-D array of shape {arr.shape}"
+        )
     if arr.ndim >= 1 and arr.shape[0] < min_len:
         raise InvalidArgumentError(f"{name} must have at least {min_len} rows, got {arr.shape[0]}")
     if finite and not np.all(np.isfinite(arr)):

@@ -8,7 +8,7 @@ import re
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from stl_strategies import any_formulas
+from .stl_strategies import any_formulas
 
 from audere.errors import InvalidArgumentError
 from audere.stl import (

@@ -12,7 +12,7 @@ import pytest
 import shapely
 from hypothesis import given
 from hypothesis import strategies as st
-from stl_strategies import REGIONS, signals, small_formulas
+from .stl_strategies import REGIONS, signals, small_formulas
 
 from audere.errors import InvalidArgumentError
 from audere.stl import (
