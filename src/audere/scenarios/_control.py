@@ -189,10 +189,15 @@ def _circles(
         r = rounded(rng.uniform(*radius, size=tries))
         placed = None
         for centers in pool:
-            for c, rr in zip(rounded(centers), r, strict=True):
-                circle = Circle(center=(float(c[0]), float(c[1])), radius=float(rr))
-                apart = all(math.dist(circle.center, o.center) >= rr + o.radius + gap for o in out)
-                if apart and _clear_of(path, circle, clearance):
+            c = rounded(centers)
+            # Cheap necessary conditions first (vectorized); the exact segment test decides.
+            gaps = (c[:, None, 0] - path[None, :, 0]) ** 2 + (c[:, None, 1] - path[None, :, 1]) ** 2
+            ok = gaps.min(axis=1) >= (r + clearance) ** 2
+            for o in out:
+                ok &= (c[:, 0] - o.center[0]) ** 2 + (c[:, 1] - o.center[1]) ** 2 >= (r + o.radius + gap) ** 2
+            for j in np.flatnonzero(ok):
+                circle = Circle(center=(float(c[j, 0]), float(c[j, 1])), radius=float(r[j]))
+                if _clear_of(path, circle, clearance):
                     placed = circle
                     break
             if placed is not None:
