@@ -140,3 +140,10 @@ def test_witness_passes_the_checker_seeds_0_to_99(name: str) -> None:
 @given(seed=st.integers(min_value=100, max_value=2**63))
 def test_large_seeds_are_solvable_too(name: str, seed: int) -> None:
     _assert_solvable(name, seed)
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_description_renders(name: str) -> None:
+    text = make(name, 0).describe()
+    assert len(text) > 200
+    assert "nan" not in text.lower().split()
