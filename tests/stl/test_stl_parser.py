@@ -8,7 +8,6 @@ import re
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
-from .stl_strategies import any_formulas
 
 from audere.errors import InvalidArgumentError
 from audere.stl import (
@@ -27,6 +26,8 @@ from audere.stl import (
     Until,
     parse,
 )
+
+from .stl_strategies import any_formulas
 
 A, B, C, D, E = (In(n) for n in "ABCDE")
 

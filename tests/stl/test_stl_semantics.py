@@ -12,7 +12,6 @@ import pytest
 import shapely
 from hypothesis import given
 from hypothesis import strategies as st
-from .stl_strategies import REGIONS, signals, small_formulas
 
 from audere.errors import InvalidArgumentError
 from audere.stl import (
@@ -36,6 +35,8 @@ from audere.stl import (
     to_nnf,
 )
 from audere.world import Circle, Polygon, Rectangle, Square, Workspace
+
+from .stl_strategies import REGIONS, signals, small_formulas
 
 # --- the reference: the textbook definitions, one step at a time, in plain Python ----------------
 

@@ -580,7 +580,8 @@ def test_segment_verdict_agrees_with_the_closed_form_distance(
     a, b, c = np.array(p), np.array(q), np.array([5.0, 5.0])
     assume(np.hypot(*(a - c)) > 1 + 1e-6 and np.hypot(*(b - c)) > 1 + 1e-6)  # valid start, no point inside
     d = b - a
-    s = 0.0 if not d.any() else float(np.clip(np.dot(c - a, d) / np.dot(d, d), 0.0, 1.0))
+    dd = float(np.dot(d, d))  # 0 also when d is so small that its square underflows
+    s = 0.0 if dd == 0.0 else float(np.clip(np.dot(c - a, d) / dd, 0.0, 1.0))
     distance = float(np.hypot(*(a + s * d - c)))
     assume(abs(distance - 1.0) > 1e-9)  # not a numerical tangent
     t = task(RA_PATH, x0=list(p), goal=list(q))

@@ -102,7 +102,7 @@ def certify(world: World, start: tuple[float, float], goal: tuple[float, float],
     bool
         ``True`` proves that a path exists (:func:`grid_path` returns one); ``False`` proves nothing.
     """
-    from scipy.ndimage import label  # type: ignore[import-untyped]  # no stubs in the environment
+    from scipy.ndimage import label
 
     grid = _grid(world, np.asarray(start, dtype=float), np.asarray(goal, dtype=float), spacing)
     if grid is None:
@@ -137,8 +137,8 @@ def grid_path(
         ``goal``, in the workspace and outside every obstacle's interior (waypoints and segments);
         ``None`` when the grid holds no such path. Collinear runs of grid moves are merged.
     """
-    from scipy.sparse import coo_matrix  # type: ignore[import-untyped]  # no stubs in the environment
-    from scipy.sparse.csgraph import breadth_first_order  # type: ignore[import-untyped]
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import breadth_first_order
 
     p0, p1 = np.asarray(start, dtype=float), np.asarray(goal, dtype=float)
     grid = _grid(world, p0, p1, spacing)
