@@ -156,3 +156,11 @@ def test_plain_english_reading(spec: str, reading: str) -> None:
 def test_describe_rejects_a_non_task() -> None:
     with pytest.raises(InvalidArgumentError, match=r"task must be a TrackingTask, .* got str"):
         describe("a task")  # type: ignore[arg-type]
+
+
+def test_models_whose_position_is_derived_say_which_point_is_checked() -> None:
+    from audere.scenarios import make
+
+    for name in ("arm-reach", "pendulum-swingup"):
+        assert "Checked point: 'position' means" in make(name, 0).describe(), name
+    assert "Checked point" not in task(RA_UNICYCLE).describe()

@@ -268,6 +268,12 @@ def _robot_lines(task: AnyTask, model: Dynamics) -> list[str]:
         )
     x0 = " = ".join([_names(model.state_names), _pt(task.x0)])
     lines.append(f"Initial state x0: {x0}; the robot starts at the position {_pt(task.start)}.")
+    if tuple(model.state_names[:2]) != ("x", "y"):
+        lines.append(
+            "Checked point: 'position' means the planar point given by position() above; only that point "
+            "(and the straight segments between its positions at consecutive steps) is checked against the "
+            "workspace and the obstacles, not the rest of the robot."
+        )
     method = "Euler" if task.integrator == "euler" else "classical Runge-Kutta (RK4)"
     lines.append(
         f"Time: dt = {fmt(task.dt)} s, horizon {task.horizon} steps (states at steps 0..{task.horizon}, "
