@@ -13,12 +13,49 @@ from typing import TYPE_CHECKING
 
 __version__ = "0.1.0.dev0"
 
-_SUBPACKAGES = ("dynamics", "errors", "scenarios", "stl", "tasks", "viz", "world")
+_SUBPACKAGES = (
+    "apis",
+    "controllers",
+    "dynamics",
+    "errors",
+    "planners",
+    "recipes",
+    "scenarios",
+    "stl",
+    "tasks",
+    "viz",
+    "world",
+)
 
-__all__ = ["__version__", "dynamics", "errors", "scenarios", "stl", "tasks", "viz", "world"]
+__all__ = [
+    "__version__",
+    "apis",
+    "controllers",
+    "dynamics",
+    "errors",
+    "planners",
+    "recipes",
+    "scenarios",
+    "stl",
+    "tasks",
+    "viz",
+    "world",
+]
 
 if TYPE_CHECKING:  # pragma: no cover
-    from audere import dynamics, errors, scenarios, stl, tasks, viz, world
+    from audere import (
+        apis,
+        controllers,
+        dynamics,
+        errors,
+        planners,
+        recipes,
+        scenarios,
+        stl,
+        tasks,
+        viz,
+        world,
+    )
 
 
 def __getattr__(name: str) -> ModuleType:

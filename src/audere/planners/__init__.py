@@ -1,0 +1,30 @@
+"""Planners: A*, RRT/RRT* (OMPL), the cross-entropy method, gradient-based optimization, STL-MILP.
+
+Each planner is a plain function returning a typed :class:`audere.apis.Result` subclass. Names
+load lazily, so ``import audere.planners`` imports no heavy backend.
+"""
+
+from __future__ import annotations
+
+import importlib
+from typing import Any
+
+# public name -> private module that defines it (one line per name; keep sorted by name)
+_EXPORTS: dict[str, str] = {
+    # "name": "_module",
+}
+
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    module = _EXPORTS.get(name)
+    if module is None:
+        raise AttributeError(f"module 'audere.planners' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"audere.planners.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(_EXPORTS))
