@@ -12,6 +12,14 @@ from typing import Any
 # public name -> private module that defines it (one line per name; keep sorted by name)
 _EXPORTS: dict[str, str] = {
     # "name": "_module",
+    "AStarResult": "_astar",
+    "CellGraph": "_astar",
+    "OccupancyGrid": "_astar",
+    "astar": "_astar",
+    "astar_graph": "_astar",
+    "cell_graph": "_astar",
+    "occupancy_grid": "_astar",
+    "shortcut": "_astar",
 }
 
 __all__ = sorted(_EXPORTS)
