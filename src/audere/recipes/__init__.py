@@ -26,6 +26,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 # private modules holding the built-in recipes (one line per module; keep sorted)
 _MODULES: tuple[str, ...] = (
     # "_plan_easy",
+    "_plan_hard",
 )
 
 
