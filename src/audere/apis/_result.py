@@ -24,7 +24,9 @@ class Result(BaseModel):
     ``waypoints`` (k, 2), ``times`` (matching the states or the waypoints), in SI units.
     """
 
-    model_config = ConfigDict(frozen=True, extra="forbid", arbitrary_types_allowed=True)
+    model_config = ConfigDict(
+        frozen=True, extra="forbid", arbitrary_types_allowed=True, use_attribute_docstrings=True
+    )
 
     status: Status = Field(description="solved, infeasible, time_limit or failed.")
     message: str = Field("", description="The solver's own message, or what went wrong.")
