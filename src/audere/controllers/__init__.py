@@ -12,6 +12,8 @@ from typing import Any
 # public name -> private module that defines it (one line per name; keep sorted by name)
 _EXPORTS: dict[str, str] = {
     # "name": "_module",
+    "LQRResult": "_lqr",
+    "lqr": "_lqr",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -27,6 +27,8 @@ F = TypeVar("F", bound=Callable[..., Any])
 _MODULES: tuple[str, ...] = (
     # "_plan_easy",
     "_plan_hard",
+    "_track_double",
+    "_track_lin",
 )
 
 
