@@ -13,7 +13,9 @@ from typing import Any
 _EXPORTS: dict[str, str] = {
     # "name": "_module",
     "LQRResult": "_lqr",
+    "MPCResult": "_mpc",
     "lqr": "_lqr",
+    "mpc": "_mpc",
 }
 
 __all__ = sorted(_EXPORTS)
