@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import inspect
 import re
+import textwrap
 from dataclasses import dataclass, field
 
 __all__ = ["Docstring", "ParamDoc", "parse_docstring"]
@@ -73,7 +74,7 @@ def parse_docstring(doc: str | None) -> Docstring:
     sections: dict[str, str] = {}
     for n, start in enumerate(headers):
         end = headers[n + 1] if n + 1 < len(headers) else len(lines)
-        body = inspect.cleandoc("\n".join(lines[start + 2 : end]))
+        body = textwrap.dedent("\n".join(lines[start + 2 : end])).strip("\n")
         sections[lines[start].strip()] = body
     params: dict[str, ParamDoc] = {}
     for title in ("Parameters", "Other Parameters"):
