@@ -42,7 +42,6 @@ __all__ = [
     "shortcut",
 ]
 
-Heuristic = Literal["octile", "euclidean", "manhattan", "zero"]
 Cell = tuple[int, int]
 
 _SQRT2 = math.sqrt(2.0)
@@ -303,7 +302,7 @@ def astar(
     goal: ArrayLike,
     *,
     connectivity: Literal[4, 8] = 8,
-    heuristic: Heuristic = "octile",
+    heuristic: Literal["octile", "euclidean", "manhattan", "zero"] = "octile",
     time_limit: float = 10.0,
 ) -> AStarResult:
     """Shortest path on an occupancy grid from the cell holding ``start`` to the cell holding ``goal``.
