@@ -14,8 +14,10 @@ _EXPORTS: dict[str, str] = {
     # "name": "_module",
     "LQRResult": "_lqr",
     "MPCResult": "_mpc",
+    "PIDResult": "_pid",
     "lqr": "_lqr",
     "mpc": "_mpc",
+    "pid": "_pid",
 }
 
 __all__ = sorted(_EXPORTS)
