@@ -357,6 +357,14 @@ class _Problem:
         x = np.clip(x0, spec.x_lo, spec.x_hi)
         return np.concatenate([np.tile(x, n), np.tile(u, n)])
 
+    def guess_from(self, x0: F, inputs: F) -> F:
+        """The initial guess from an input sequence: the clipped inputs and their clipped rollout."""
+        spec = self.spec
+        u = np.clip(inputs, spec.u_lo, spec.u_hi)
+        x = spec.model.rollout(x0, u, spec.dt, method=spec.method)[1:]
+        x = np.clip(np.nan_to_num(x, nan=0.0, posinf=0.0, neginf=0.0), spec.x_lo, spec.x_hi)
+        return np.concatenate([x.ravel(), u.ravel()])
+
     def shifted(self, solve: _Solve) -> F:
         """The previous plan shifted by one step (its last state and input repeated)."""
         x = np.vstack([solve.states[2:], solve.states[-1:]])
@@ -462,6 +470,7 @@ def mpc(
     max_iter: int = 200,
     time_limit: float = 2.0,
     warm_start: bool = True,
+    initial_inputs: ArrayLike | None = None,
 ) -> MPCResult:
     """Model predictive control with CasADi: track a reference or reach a goal, with constraints.
 
@@ -548,6 +557,12 @@ def mpc(
     warm_start
         Start each closed-loop solve from the previous plan shifted by one step (otherwise from
         ``x0`` held with zero inputs).
+    initial_inputs
+        Initial guess for the first solve's inputs, shape ``(horizon, n_u)`` (clipped to the
+        bounds; the predicted states start as their rollout from ``x0``), e.g. a plan from another
+        planner or a manoeuvre that goes around an obstacle on a chosen side. ``None``: zero inputs.
+        Nonlinear problems (obstacles above all) have local optima; different guesses find
+        different ones.
 
     Returns
     -------
@@ -694,6 +709,15 @@ def mpc(
                     f"({describe_shape(shape)})",
                 )
 
+    guess_inputs: F | None = None
+    if initial_inputs is not None:
+        guess_inputs = as_float_array(initial_inputs, name="initial_inputs")
+        if guess_inputs.shape != (n_horizon, n_u):
+            raise InvalidArgumentError(
+                f"initial_inputs must have shape (horizon, n_u) = ({n_horizon}, {n_u}) "
+                f"{_labels(model.input_names)}, got shape {tuple(guess_inputs.shape)}"
+            )
+
     spec = _Spec(
         model=model,
         dt=step_dt,
@@ -729,6 +753,8 @@ def mpc(
     for k in range(rounds):
         if warm_start and previous is not None:
             guess = problem.shifted(previous)
+        elif k == 0 and guess_inputs is not None:
+            guess = problem.guess_from(state, guess_inputs)
         else:
             guess = problem.cold_guess(state)
         result = problem.solve(state, _window(target, k, n_horizon), guess, previous if warm_start else None)

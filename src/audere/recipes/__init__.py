@@ -26,7 +26,10 @@ F = TypeVar("F", bound=Callable[..., Any])
 # private modules holding the built-in recipes (one line per module; keep sorted)
 _MODULES: tuple[str, ...] = (
     # "_plan_easy",
+    "_arm_reach",
     "_plan_hard",
+    "_reach_unicycle",
+    "_track_car",
     "_track_double",
     "_track_lin",
 )
