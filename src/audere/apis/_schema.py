@@ -149,7 +149,22 @@ def _json_type(tp: Any) -> Any:
         if arraylike <= set(members):
             members = [m for m in members if m not in arraylike]
             out.append(NumberArray)
-        out.extend(_json_type(m) if m is not type(None) else m for m in members)
+        dropped = []
+        for member in members:
+            if member is type(None):
+                out.append(member)
+                continue
+            try:  # a member with no JSON form (a formula tree next to its string) is left out
+                mapped = _json_type(member)
+            except _Unrepresentable:
+                dropped.append(member)
+                continue
+            if _representable(mapped):
+                out.append(mapped)
+            else:
+                dropped.append(member)
+        if not [m for m in out if m is not type(None)]:
+            raise _Unrepresentable(f"no member of {tp!r} has a JSON form")
         return functools.reduce(lambda a, b: Union[a, b], out)  # noqa: UP007 - built at runtime
     if origin is Literal:
         return tp

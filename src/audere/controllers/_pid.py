@@ -267,59 +267,65 @@ def pid(
     status = "solved"
     message = f"closed-loop PID simulation over {horizon} steps"
     done = horizon
-    for k in range(horizon):
-        if time.perf_counter() - t0 > time_limit:
-            status, done = "time_limit", k
-            message = f"time limit of {time_limit} s reached after {k} of {horizon} steps"
-            break
-        pos = x[:2]
-        if model.name == "unicycle":
-            target = positions[min(k + lookahead, horizon)]
-            delta = target - pos
-            distance = float(np.hypot(delta[0], delta[1]))
-            heading = math.atan2(delta[1], delta[0]) if distance > 1e-9 else float(x[2])
-            heading_error = _wrap(heading - float(x[2]))
-            steps = min(lookahead, horizon - k)
-            speed_wanted = math.cos(heading_error) * distance / (steps * dt)
-            error = np.array([heading_error, speed_wanted - float(x[3])])
-            rate = np.zeros(2) if previous is None else (error - previous) / dt
-            rate[0] = _wrap(float(error[0] - previous[0])) / dt if previous is not None else 0.0
-            ff = np.zeros(2)
-        elif model.name == "double_integrator":
-            error = positions[k] - pos
-            rate = ref_vel[k] - x[2:4]
-            ff = (ref_vel[min(k + 1, horizon)] - ref_vel[k]) / dt if feedforward else np.zeros(2)
-        else:
-            error = positions[k] - pos
-            rate = np.zeros(2) if previous is None else (error - previous) / dt
-            ff = (positions[k + 1] - positions[k]) / dt if feedforward else np.zeros(2)
-        previous = error
-        candidate = integral + error * dt
-        if integrator_limit is not None:
-            candidate = np.clip(candidate, -integrator_limit, integrator_limit)
-        raw = ff + gp * error + gi * candidate + gd * rate
-        u = np.clip(raw, lo, hi)
-        clipped = u != raw
-        if np.any(clipped):
-            saturated += 1
-        if anti_windup == "clamping":
-            # integrate only the channels that are not pushed further into saturation
-            pushing = clipped & (np.sign(error) == np.sign(raw - u))
-            integral = np.where(pushing, integral, candidate)
-        elif anti_windup == "back_calculation":
-            excess = np.divide(u - raw, gi, out=np.zeros(n_u), where=gi > 0)
-            integral = candidate + excess
-        else:
-            integral = candidate
-        if integrator_limit is not None:
-            integral = np.clip(integral, -integrator_limit, integrator_limit)
-        inputs[k] = u
-        x = model.step(x, u, dt, method=method)
-        states[k + 1] = x
-        if not np.all(np.isfinite(x)):
-            status, done = "failed", k + 1
-            message = f"the closed loop diverged at step {k + 1} (non-finite state); lower the gains"
-            break
+    # a diverging loop is reported through the status, not floating-point warnings
+    with np.errstate(over="ignore", invalid="ignore"):
+        for k in range(horizon):
+            if time.perf_counter() - t0 > time_limit:
+                status, done = "time_limit", k
+                message = f"time limit of {time_limit} s reached after {k} of {horizon} steps"
+                break
+            pos = x[:2]
+            if model.name == "unicycle":
+                target = positions[min(k + lookahead, horizon)]
+                delta = target - pos
+                distance = float(np.hypot(delta[0], delta[1]))
+                heading = math.atan2(delta[1], delta[0]) if distance > 1e-9 else float(x[2])
+                heading_error = _wrap(heading - float(x[2]))
+                steps = min(lookahead, horizon - k)
+                speed_wanted = math.cos(heading_error) * distance / (steps * dt)
+                error = np.array([heading_error, speed_wanted - float(x[3])])
+                rate = np.zeros(2) if previous is None else (error - previous) / dt
+                rate[0] = _wrap(float(error[0] - previous[0])) / dt if previous is not None else 0.0
+                ff = np.zeros(2)
+            elif model.name == "double_integrator":
+                error = positions[k] - pos
+                rate = ref_vel[k] - x[2:4]
+                ff = (ref_vel[min(k + 1, horizon)] - ref_vel[k]) / dt if feedforward else np.zeros(2)
+            else:
+                error = positions[k] - pos
+                rate = np.zeros(2) if previous is None else (error - previous) / dt
+                ff = (positions[k + 1] - positions[k]) / dt if feedforward else np.zeros(2)
+            previous = error
+            candidate = integral + error * dt
+            if integrator_limit is not None:
+                candidate = np.clip(candidate, -integrator_limit, integrator_limit)
+            raw = ff + gp * error + gi * candidate + gd * rate
+            u = np.clip(raw, lo, hi)
+            clipped = u != raw
+            if np.any(clipped):
+                saturated += 1
+            if anti_windup == "clamping":
+                # integrate only the channels that are not pushed further into saturation
+                pushing = clipped & (np.sign(error) == np.sign(raw - u))
+                integral = np.where(pushing, integral, candidate)
+            elif anti_windup == "back_calculation":
+                excess = np.divide(u - raw, gi, out=np.zeros(n_u), where=gi > 0)
+                integral = candidate + excess
+            else:
+                integral = candidate
+            if integrator_limit is not None:
+                integral = np.clip(integral, -integrator_limit, integrator_limit)
+            if not np.all(np.isfinite(u)):
+                status, done = "failed", k
+                message = f"the closed loop diverged at step {k} (non-finite input); lower the gains"
+                break
+            inputs[k] = u
+            x = model.step(x, u, dt, method=method)
+            states[k + 1] = x
+            if not np.all(np.isfinite(x)):
+                status, done = "failed", k + 1
+                message = f"the closed loop diverged at step {k + 1} (non-finite state); lower the gains"
+                break
     states = states[: done + 1]
     inputs = inputs[:done]
     times = dt * np.arange(done + 1)
