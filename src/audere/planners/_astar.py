@@ -209,7 +209,7 @@ def _search(
     h: list[float],
     deadline: float,
 ) -> _Outcome:
-    """A* over integer nodes with a consistent heuristic ``h`` (negative neighbour ids are skipped)."""
+    """A* over integer nodes with a consistent heuristic ``h``."""
     n = len(neighbours)
     g = [math.inf] * n
     parent = [-1] * n
@@ -233,7 +233,7 @@ def _search(
             return _Outcome(None, math.inf, expanded, True)
         gn = g[node]
         for nb, w in zip(neighbours[node], weights[node], strict=True):
-            if nb < 0 or closed[nb]:
+            if closed[nb]:
                 continue
             cand = gn + w
             if cand < g[nb]:
@@ -253,27 +253,65 @@ def _as_time_limit(time_limit: float) -> float:
     return float(time_limit)
 
 
-def _grid_neighbours(
-    free: NDArray[np.bool_], connectivity: int
-) -> tuple[NDArray[np.int64], NDArray[np.float64]]:
-    """Neighbour ids (-1 where a move is not allowed) and move lengths in cells, each ``(N, moves)``."""
+def _grid_search(
+    free: NDArray[np.bool_],
+    start: Cell,
+    goal: Cell,
+    connectivity: int,
+    h: list[float],
+    step: float,
+    deadline: float,
+) -> _Outcome:
+    """A* on a grid, neighbours generated on the fly; nodes are indices into ``free`` padded by one.
+
+    The padding ring is blocked, so no move needs a bounds check. ``h`` is indexed like the padded
+    grid; axis moves cost ``step``, diagonal moves ``step * sqrt(2)`` and need both cells beside the
+    diagonal free (no corner cutting).
+    """
     rows, cols = free.shape
-    ids = np.arange(rows * cols).reshape(rows, cols)
-    padded = np.zeros((rows + 2, cols + 2), dtype=bool)
+    width = cols + 2
+    padded = np.zeros((rows + 2, width), dtype=bool)
     padded[1:-1, 1:-1] = free
-
-    def shifted(dr: int, dc: int) -> NDArray[np.bool_]:
-        return padded[1 + dr : 1 + dr + rows, 1 + dc : 1 + dc + cols]
-
-    moves = _MOVES[:connectivity]
-    nbr = np.full((rows, cols, len(moves)), -1, dtype=np.int64)
-    for k, (dr, dc) in enumerate(moves):
-        ok = free & shifted(dr, dc)
-        if dr and dc:  # no corner cutting: both cells beside the diagonal must be free too
-            ok &= shifted(dr, 0) & shifted(0, dc)
-        nbr[..., k] = np.where(ok, ids + dr * cols + dc, -1)
-    lengths = np.array([_SQRT2 if dr and dc else 1.0 for dr, dc in moves])
-    return nbr.reshape(rows * cols, len(moves)), lengths
+    ok = padded.ravel().tolist()
+    axis = [(dr * width + dc, step) for dr, dc in _MOVES[:4]]
+    diagonal = [(dr * width + dc, dr * width, dc, step * _SQRT2) for dr, dc in _MOVES[4:connectivity]]
+    s, t = (start[0] + 1) * width + start[1] + 1, (goal[0] + 1) * width + goal[1] + 1
+    n = len(ok)
+    g = [math.inf] * n
+    parent = [-1] * n
+    closed = bytearray(n)
+    g[s] = 0.0
+    heap: list[tuple[float, float, int]] = [(h[s], h[s], s)]
+    expanded = 0
+    pop, push, clock = heapq.heappop, heapq.heappush, time.perf_counter
+    while heap:
+        _, _, node = pop(heap)
+        if closed[node]:
+            continue
+        closed[node] = 1
+        expanded += 1
+        if node == t:
+            path = [node]
+            while parent[path[-1]] >= 0:
+                path.append(parent[path[-1]])
+            cells = [(i // width - 1) * cols + i % width - 1 for i in reversed(path)]
+            return _Outcome(cells, g[t], expanded, False)
+        if expanded % _CHECK_EVERY == 0 and clock() > deadline:
+            return _Outcome(None, math.inf, expanded, True)
+        gn = g[node]
+        for off, w in axis:
+            nb = node + off
+            if ok[nb] and not closed[nb] and gn + w < g[nb]:
+                g[nb] = gn + w
+                parent[nb] = node
+                push(heap, (gn + w + h[nb], h[nb], nb))
+        for off, o1, o2, w in diagonal:
+            nb = node + off
+            if ok[nb] and ok[node + o1] and ok[node + o2] and not closed[nb] and gn + w < g[nb]:
+                g[nb] = gn + w
+                parent[nb] = node
+                push(heap, (gn + w + h[nb], h[nb], nb))
+    return _Outcome(None, math.inf, expanded, False)
 
 
 def _grid_heuristic(heuristic: str, rows: int, cols: int, goal: Cell) -> NDArray[np.float64]:
@@ -398,12 +436,8 @@ def astar(
     for name, cell in (("start", a), ("goal", b)):
         if grid.blocked[cell]:
             return done("infeasible", f"the {name} cell {cell} is blocked")
-    nbr, lengths = _grid_neighbours(~grid.blocked, connectivity)
-    weights = (lengths * grid.resolution).tolist()
-    h = (_grid_heuristic(heuristic, rows, cols, b) * grid.resolution).tolist()
-    out = _search(
-        a[0] * cols + a[1], b[0] * cols + b[1], nbr.tolist(), [weights] * (rows * cols), h, t0 + budget
-    )
+    h = (_grid_heuristic(heuristic, rows + 2, cols + 2, (b[0] + 1, b[1] + 1)) * grid.resolution).tolist()
+    out = _grid_search(~grid.blocked, a, b, connectivity, h, grid.resolution, t0 + budget)
     if out.timed_out:
         return done("time_limit", f"no path within the {budget:g} s budget", out.expanded)
     if out.path is None:
