@@ -164,7 +164,7 @@ def _json_type(tp: Any) -> Any:
             else:
                 dropped.append(member)
         if not [m for m in out if m is not type(None)]:
-            raise _Unrepresentable(f"no member of {tp!r} has a JSON form")
+            raise _Unrepresentable("no member of the union has a JSON form")
         return functools.reduce(lambda a, b: Union[a, b], out)  # noqa: UP007 - built at runtime
     if origin is Literal:
         return tp
@@ -233,7 +233,8 @@ def _build(info: ApiInfo) -> tuple[type[BaseModel], tuple[str, ...], str]:
                 raise _Unrepresentable(f"{p.annotation!r} has no JSON schema")
         except _Unrepresentable as exc:
             if p.default is p.empty:
-                problems.append(f"{p.name}: {exc}")
+                written = p.annotation if isinstance(p.annotation, str) else repr(p.annotation)
+                problems.append(f"{p.name} (annotated {written}): {exc}")
             else:
                 omitted.append(p.name)
             continue

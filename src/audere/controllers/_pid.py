@@ -70,8 +70,8 @@ def _gain(value: ArrayLike | None, default: F, *, name: str, n_u: int) -> F:
     if value is None:
         return default
     arr = as_float_array(value, name=name)
-    if arr.ndim == 0:
-        arr = np.full(n_u, float(arr))
+    if arr.ndim == 0 or arr.shape == (1,):
+        arr = np.full(n_u, float(arr.reshape(-1)[0]))
     if arr.shape != (n_u,):
         raise InvalidArgumentError(
             f"{name} must be a number or an array of shape ({n_u},) (one gain per input), "
@@ -86,8 +86,8 @@ def _bound(value: ArrayLike | None, *, name: str, n_u: int, fill: float) -> F:
     if value is None:
         return np.full(n_u, fill)
     arr = as_float_array(value, name=name, finite=False)
-    if arr.ndim == 0:
-        arr = np.full(n_u, float(arr))
+    if arr.ndim == 0 or arr.shape == (1,):
+        arr = np.full(n_u, float(arr.reshape(-1)[0]))
     if arr.shape != (n_u,):
         raise InvalidArgumentError(
             f"{name} must be a number or an array of shape ({n_u},), got shape {tuple(arr.shape)}"
