@@ -13,13 +13,20 @@ from typing import Any
 _EXPORTS: dict[str, str] = {
     # "name": "_module",
     "AStarResult": "_astar",
+    "CEMResult": "_cem",
     "CellGraph": "_astar",
+    "CostFunction": "_cem",
     "OccupancyGrid": "_astar",
     "astar": "_astar",
     "astar_graph": "_astar",
     "cell_graph": "_astar",
+    "cem": "_cem",
+    "effort_cost": "_cem",
+    "goal_cost": "_cem",
+    "obstacle_cost": "_cem",
     "occupancy_grid": "_astar",
     "shortcut": "_astar",
+    "tracking_cost": "_cem",
 }
 
 __all__ = sorted(_EXPORTS)

@@ -27,6 +27,7 @@ F = TypeVar("F", bound=Callable[..., Any])
 _MODULES: tuple[str, ...] = (
     # "_plan_easy",
     "_arm_reach",
+    "_pendulum_swingup",
     "_plan_hard",
     "_reach_unicycle",
     "_track_car",
