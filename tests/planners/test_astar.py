@@ -2,8 +2,11 @@
 
 from __future__ import annotations
 
+import doctest
 import math
+import re
 import time
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -533,3 +536,38 @@ def test_occupancy_grid_fields_are_validated(call: object, match: str) -> None:
     # OccupancyGrid is a pydantic model: its fields raise pydantic's ValidationError (a ValueError)
     with pytest.raises(ValidationError, match=match):
         call()  # type: ignore[operator]
+
+
+# ---------------------------------------------------------------------------------------------- docs
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "apis" / "astar.md"
+
+
+def _expected_output(source: str) -> list[str]:
+    """The comment lines that directly follow a print() call (or each other): the shown output."""
+    out: list[str] = []
+    showing = False
+    for line in source.splitlines():
+        if line.startswith("# ") and showing:
+            out.append(line[2:])
+        else:
+            showing = "print(" in line
+    return out
+
+
+def test_docs_page_examples_print_what_they_say(capsys: pytest.CaptureFixture[str]) -> None:
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S)
+    assert len(blocks) >= 3
+    for i, source in enumerate(blocks):
+        namespace: dict[str, object] = {"__name__": "docs_astar"}
+        exec(compile(source, f"{DOC}#block{i}", "exec", dont_inherit=True), namespace)
+        printed = capsys.readouterr().out.splitlines()
+        assert printed == _expected_output(source), f"block {i}"
+
+
+def test_docstring_examples() -> None:
+    import audere.planners._astar as module
+
+    result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
+    assert result.attempted >= 8
+    assert result.failed == 0
