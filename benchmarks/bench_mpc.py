@@ -147,7 +147,7 @@ def main() -> None:
         markdown_table(
             per_solve,
             baseline="reused, warm start",
-            title=f"Unicycle NMPC, horizon {N}, IPOPT: time per solve ({STEPS} closed-loop solves per repeat)",
+            title=f"Unicycle NMPC, horizon {N}, IPOPT: time per solve ({STEPS} solves per repeat)",
         )
     )
     by_label = {t.label: t for t in per_solve}
