@@ -103,6 +103,7 @@ def ping(*, times: int = 1) -> Result:
 @pytest.fixture
 def registry() -> Iterator[None]:
     """The two tiny test APIs registered for one test, the registry restored afterwards."""
+    _registry.list_apis()  # built-ins loaded first, so restoring keeps them
     saved = dict(_registry._REGISTRY)
     register_api("scale_test", description="Scale points; a test API.", tags=("test",))(scale)
     register_api("ping_test", description="Reply pong; a test API.")(ping)

@@ -5,9 +5,12 @@ from __future__ import annotations
 import inspect
 import re
 import sys
+import types
 import typing
 from typing import Any
 
+import numpy as np
+import numpy.typing as npt
 from pydantic import BaseModel
 
 from audere.apis._registry import ApiInfo, get_api, list_apis
@@ -36,14 +39,43 @@ def catalog() -> str:
 
 
 def _format_annotation(annotation: Any) -> str:
+    """An annotation as its author would write it (``ArrayLike | None``, ``NDArray[np.float64]``)."""
     if isinstance(annotation, str):
         return annotation
-    if annotation is type(None):
+    if annotation is None or annotation is type(None):
         return "None"
-    if isinstance(annotation, type) and not typing.get_args(annotation):
+    if annotation is Ellipsis:
+        return "..."
+    origin = typing.get_origin(annotation)
+    args = typing.get_args(annotation)
+    if origin is typing.Union or isinstance(annotation, types.UnionType):
+        members = list(args)
+        parts: list[str] = []
+        arraylike = set(typing.get_args(npt.ArrayLike))
+        if arraylike <= set(members):
+            members = [m for m in members if m not in arraylike]
+            parts.append("ArrayLike")
+        parts.extend(_format_annotation(m) for m in members)
+        return " | ".join(parts)
+    if annotation is np.ndarray or origin is np.ndarray:
+        dtype = typing.get_args(args[1])[0] if len(args) == 2 and typing.get_args(args[1]) else None
+        return f"NDArray[np.{dtype.__name__}]" if isinstance(dtype, type) else "NDArray"
+    if origin is typing.Annotated:
+        return _format_annotation(args[0])
+    if origin is typing.Literal:
+        return f"Literal[{', '.join(repr(a) for a in args)}]"
+    if origin is not None:
+        name = getattr(origin, "__qualname__", None) or repr(origin)
+        inner = ", ".join(
+            "[" + ", ".join(_format_annotation(x) for x in a) + "]"
+            if isinstance(a, list)
+            else _format_annotation(a)
+            for a in args
+        )
+        return f"{name}[{inner}]" if args else name
+    if isinstance(annotation, type):
         return annotation.__qualname__
-    text = repr(annotation)
-    return re.sub(r"\b(?:typing|collections\.abc|numpy\.typing|types)\.", "", text)
+    return re.sub(r"\b(?:typing|collections\.abc|numpy\.typing|types)\.", "", repr(annotation))
 
 
 def _format_default(value: Any) -> str:
