@@ -29,6 +29,7 @@ from audere.planners import (
     shortcut,
 )
 from audere.planners._astar import _grid_heuristic
+from audere.tasks import Solution
 from audere.world import Circle, Rectangle, Square, Workspace, World
 
 # ---------------------------------------------------------------------------------------- references
@@ -571,3 +572,14 @@ def test_docstring_examples() -> None:
     result = doctest.testmod(module, optionflags=doctest.NORMALIZE_WHITESPACE)
     assert result.attempted >= 8
     assert result.failed == 0
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_plan_easy_with_astar(seed: int) -> None:
+    """The A* alternative for plan-easy shown in the docs (the registered recipe uses rrt)."""
+    task = scenarios.make("plan-easy", seed=seed)
+    grid = occupancy_grid(task.world(inflated=False), resolution=0.05, margin=task.margin)
+    result = astar(grid, task.start, task.goal_position)
+    assert result.solved
+    path = shortcut(result.waypoints, task.world())
+    assert task.check(Solution(waypoints=path)).success
