@@ -6,6 +6,8 @@ from typing import Any
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from audere import scenarios
 from audere.controllers import pid
@@ -28,6 +30,45 @@ def test_p_only_single_integrator_converges_geometrically() -> None:
     assert result.inputs.shape == (15, 2)
     np.testing.assert_allclose(result.times, 0.5 * np.arange(16))
     assert result.cost == pytest.approx(float(np.mean(expected)))
+
+
+def test_pd_double_integrator_matches_the_closed_loop_matrix() -> None:
+    # per axis, with a constant reference: e[k+1] = A e[k], e = (position error, velocity error)
+    kp, kd, dt = 0.6, 1.1, 0.4
+    target = np.array([3.0, -2.0])
+    reference = np.tile(target, (31, 1))
+    x0 = np.array([0.5, 1.0, 0.2, -0.3])
+    result = pid("double_integrator", x0, reference, dt, kp=kp, kd=kd, feedforward=False)
+    a_cl = np.array([[1.0, dt], [-dt * kp, 1.0 - dt * kd]])
+    e0 = np.stack([target - x0[:2], -x0[2:]])  # rows: position error, velocity error; columns: axes
+    expected = np.array([np.linalg.matrix_power(a_cl, k) @ e0 for k in range(31)])
+    assert result.states is not None
+    np.testing.assert_allclose(target - result.states[:, :2], expected[:, 0, :], atol=1e-12)
+    np.testing.assert_allclose(-result.states[:, 2:], expected[:, 1, :], atol=1e-12)
+
+
+@given(
+    kp=st.floats(0.0, 3.0),
+    ki=st.floats(0.0, 2.0),
+    kd=st.floats(0.0, 0.5),
+    bound=st.floats(0.05, 2.0),
+    anti_windup=st.sampled_from(["clamping", "back_calculation", "none"]),
+    name=st.sampled_from(["single_integrator", "double_integrator", "unicycle"]),
+)
+def test_inputs_stay_in_bounds_and_states_are_their_rollout(
+    kp: float, ki: float, kd: float, bound: float, anti_windup: Any, name: str
+) -> None:
+    model = get_dynamics(name)
+    reference = np.linspace([0.0, 0.0], [3.0, 2.0], 16)
+    x0 = np.zeros(model.n_x)
+    x0[:2] = [0.4, -0.2]
+    result = pid(
+        model, x0, reference, 0.5, kp=kp, ki=ki, kd=kd, u_min=-bound, u_max=bound, anti_windup=anti_windup
+    )
+    assert result.status == "solved"
+    assert result.inputs is not None
+    assert np.all(np.abs(result.inputs) <= bound)
+    np.testing.assert_allclose(result.states, model.rollout(x0, result.inputs, 0.5), rtol=0, atol=1e-9)
 
 
 def test_states_are_the_rollout_of_the_inputs() -> None:
