@@ -221,3 +221,20 @@ def test_pid_alone_passes_track_lin_100_seeds() -> None:
         if not (t := scenarios.make("track-lin", seed=s)).check(solve_track_lin_with_pid(t)).success
     ]
     assert failed == []
+
+
+def test_pid_card_and_schema() -> None:
+    from audere.apis import api_card, tool_schema, validate_call
+
+    card = api_card("pid")
+    assert "AntiWindup = Literal['clamping', 'back_calculation', 'none']\n" in card
+    assert "def pid(\n    dynamics: Dynamics | str,\n" in card
+    assert "class PIDResult(Result):" in card
+    properties = tool_schema("pid")["function"]["parameters"]["properties"]
+    assert properties["anti_windup"]["enum"] == ["clamping", "back_calculation", "none"]
+    kwargs = validate_call(
+        "pid",
+        {"dynamics": "single_integrator", "x0": [0, 0], "reference": [[1, 0], [1, 0]], "dt": 0.5, "kp": [1]},
+    )
+    result = pid(**kwargs)
+    np.testing.assert_allclose(result.states, [[0, 0], [0.5, 0]])

@@ -160,6 +160,29 @@ def _class_stub(cls: type[BaseModel]) -> str:
     return "".join(out)
 
 
+_KNOWN = frozenset({"ArrayLike", "NDArray", "Literal", "Any", "None", "np"})
+
+
+def _aliases(info: ApiInfo) -> str:
+    """Definitions of the type aliases the signature uses (``AntiWindup = Literal[...]``)."""
+    signature = inspect.signature(info.function)
+    written = [p.annotation for p in signature.parameters.values() if isinstance(p.annotation, str)]
+    namespace = getattr(info.function, "__globals__", {})
+    lines: list[str] = []
+    seen: set[str] = set()
+    for text in written:
+        for word in re.findall(r"\b[A-Za-z_]\w*\b", text):
+            if word in seen or word in _KNOWN:
+                continue
+            seen.add(word)
+            value = namespace.get(word)
+            if value is None or isinstance(value, (type, types.ModuleType)):
+                continue
+            if typing.get_origin(value) is not None:
+                lines.append(f"{word} = {_format_annotation(value)}\n")
+    return "".join(lines)
+
+
 def api_card(name: str) -> str:
     """A Python stub of an API: its signature, full docstring, and the fields of its result class.
 
@@ -185,6 +208,7 @@ def api_card(name: str) -> str:
     parts = [
         f"# {info.name}: {info.description}" + (f" [{', '.join(info.tags)}]" if info.tags else ""),
         "\n",
+        _aliases(info),
         _stub_signature(info),
         "\n",
         _docstring_block(info.function.__doc__, "    "),
