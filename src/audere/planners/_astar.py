@@ -425,8 +425,9 @@ def astar(
                 f"[{y0:g}, {y0 + rows * grid.resolution:g}], got ({p[0]:g}, {p[1]:g})"
             )
     rows, cols = grid.shape
-    a: Cell = (int(grid.to_cell(p0)[0]), int(grid.to_cell(p0)[1]))
-    b: Cell = (int(grid.to_cell(p1)[0]), int(grid.to_cell(p1)[1]))
+    (r0, c0), (r1, c1) = grid.to_cell(np.stack([p0, p1])).tolist()
+    a: Cell = (r0, c0)
+    b: Cell = (r1, c1)
 
     def done(status: Literal["infeasible", "time_limit"], message: str, expanded: int = 0) -> AStarResult:
         return AStarResult(
@@ -465,11 +466,8 @@ def _length(points: NDArray[np.float64]) -> float:
     return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
 
 
-Graph = Mapping[Hashable, Mapping[Hashable, float]] | Sequence[Sequence[Any]]
-
-
 def astar_graph(
-    graph: Graph,
+    graph: Mapping[Hashable, Mapping[Hashable, float]] | Sequence[Sequence[Any]],
     start: Hashable,
     goal: Hashable,
     *,
@@ -605,7 +603,8 @@ def _weight(w: Any, where: str) -> float:
 
 
 def _as_adjacency(
-    graph: Graph, coords: dict[Hashable, NDArray[np.float64]] | None
+    graph: Mapping[Hashable, Mapping[Hashable, float]] | Sequence[Sequence[Any]],
+    coords: dict[Hashable, NDArray[np.float64]] | None,
 ) -> dict[Hashable, dict[Hashable, float]]:
     adjacency: dict[Hashable, dict[Hashable, float]] = {}
     if isinstance(graph, Mapping):
