@@ -29,6 +29,7 @@ _MODULES: tuple[str, ...] = (
     "_arm_reach",
     "_pendulum_swingup",
     "_plan_hard",
+    "_plan_stl",
     "_reach_unicycle",
     "_track_car",
     "_track_double",
