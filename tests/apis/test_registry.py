@@ -355,7 +355,7 @@ def _example(schema: dict[str, Any], defs: dict[str, Any]) -> Any:
 
 # Built-in APIs whose required problem data includes a Python callable: callable from code (card,
 # source, validation of the other rules), but with no JSON tool schema. Each entry says why.
-CODE_ONLY = {"cem": "cost is a required Python callable"}
+CODE_ONLY: dict[str, str] = {}
 
 
 def _names() -> list[str]:
