@@ -30,7 +30,7 @@ def test_finds_the_analytic_optimum_of_a_quadratic_problem() -> None:
     result = cem(
         SINGLE,
         x0,
-        [goal_cost(goal), effort_cost(weight=lam)],
+        cost=[goal_cost(goal), effort_cost(weight=lam)],
         horizon=horizon,
         dt=dt,
         u_min=-1.0,
@@ -58,9 +58,9 @@ def test_finds_the_analytic_optimum_of_a_quadratic_problem() -> None:
 def test_same_seed_same_result_and_bounds_respected() -> None:
     args = {"horizon": 10, "dt": 1.0, "u_min": [-0.3, -0.2], "u_max": [0.3, 0.1], "iterations": 5}
     cost = goal_cost([3.0, -3.0])
-    a = cem("single_integrator", [0.0, 0.0], cost, seed=7, **args)  # type: ignore[arg-type]
-    b = cem("single_integrator", [0.0, 0.0], cost, seed=7, **args)  # type: ignore[arg-type]
-    c = cem("single_integrator", [0.0, 0.0], cost, seed=8, **args)  # type: ignore[arg-type]
+    a = cem("single_integrator", [0.0, 0.0], cost=cost, seed=7, **args)  # type: ignore[arg-type]
+    b = cem("single_integrator", [0.0, 0.0], cost=cost, seed=7, **args)  # type: ignore[arg-type]
+    c = cem("single_integrator", [0.0, 0.0], cost=cost, seed=8, **args)  # type: ignore[arg-type]
     assert a.inputs is not None
     assert b.inputs is not None
     assert c.inputs is not None
@@ -108,7 +108,11 @@ def test_avoids_an_obstacle_on_the_straight_line() -> None:
     result = cem(
         SINGLE,
         [0.0, 0.0],
-        [goal_cost([2.0, 0.0], weight=10.0), obstacle_cost([circle], margin=0.05, weight=1000.0)],
+        goal=[2.0, 0.0],
+        goal_weight=10.0,
+        obstacles=[circle],
+        margin=0.05,
+        obstacle_weight=1000.0,
         horizon=10,
         dt=0.5,
         u_min=-1.0,
@@ -121,12 +125,45 @@ def test_avoids_an_obstacle_on_the_straight_line() -> None:
     assert np.linalg.norm(result.states[-1] - [2.0, 0.0]) < 0.2
 
 
+def test_built_in_terms_equal_the_factories() -> None:
+    pendulum = get_dynamics("pendulum")
+    reference = np.zeros((6, 2))
+    args = {"horizon": 5, "dt": 0.1, "u_min": -2.0, "u_max": 2.0, "iterations": 3, "seed": 4}
+    built = cem(
+        pendulum,
+        [0.1, 0.0],
+        goal=[0.0, -1.0],
+        goal_on="position",
+        reference=reference,
+        effort_weight=0.5,
+        **args,
+    )  # type: ignore[arg-type]
+    manual = cem(
+        pendulum,
+        [0.1, 0.0],
+        cost=[
+            goal_cost([0.0, -1.0], position_of=pendulum),
+            tracking_cost(reference),
+            effort_cost(weight=0.5),
+        ],
+        **args,
+    )  # type: ignore[arg-type]
+    assert built.inputs is not None
+    assert manual.inputs is not None
+    np.testing.assert_array_equal(built.inputs, manual.inputs)
+    assert built.cost == manual.cost
+
+
 def test_target_cost_stops_early_and_time_limit_status() -> None:
-    early = cem(SINGLE, [0, 0], goal_cost([0.5, 0.0]), horizon=4, dt=1.0, u_min=-1, u_max=1, target_cost=1.0)
+    early = cem(
+        SINGLE, [0, 0], cost=goal_cost([0.5, 0.0]), horizon=4, dt=1.0, u_min=-1, u_max=1, target_cost=1.0
+    )
     assert early.status == "solved"
     assert early.iterations == 1
     assert "target cost" in early.message
-    slow = cem(SINGLE, [0, 0], goal_cost([0.5, 0.0]), horizon=4, dt=1.0, iterations=1000, time_limit=1e-9)
+    slow = cem(
+        SINGLE, [0, 0], cost=goal_cost([0.5, 0.0]), horizon=4, dt=1.0, iterations=1000, time_limit=1e-9
+    )
     assert slow.status == "time_limit"
     assert slow.iterations == 1
     assert slow.inputs is not None  # the best sequence so far is still returned
@@ -136,7 +173,7 @@ def test_failed_when_no_sample_has_a_finite_cost() -> None:
     def hopeless(states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         return np.full(len(states), np.inf)
 
-    result = cem(SINGLE, [0.0, 0.0], hopeless, horizon=3, dt=1.0, iterations=3)
+    result = cem(SINGLE, [0.0, 0.0], cost=hopeless, horizon=3, dt=1.0, iterations=3)
     assert isinstance(result, CEMResult)
     assert result.status == "failed"
     assert result.inputs is None
@@ -155,6 +192,12 @@ def _bad_shape(states: np.ndarray, inputs: np.ndarray) -> np.ndarray:
         ({"x0": [np.nan, 0.0]}, "x0 must be finite"),
         ({"cost": 3}, "cost must be a callable"),
         ({"cost": []}, "cost must be a callable"),
+        ({"cost": None}, "nothing to minimize"),
+        ({"goal": [1.0, 2.0, 3.0]}, r"goal must have shape \(2,\) when goal_on='state'"),
+        ({"goal_on": "pose"}, "goal_on must be 'state' or 'position'"),
+        ({"reference": np.zeros((4, 2))}, r"reference must have shape \(6, m\)"),
+        ({"obstacles": [3]}, r"obstacles\[0\] must be a Circle"),
+        ({"effort_weight": -1.0}, "effort_weight must be a finite number >= 0"),
         ({"cost": _bad_shape}, r"cost must return one number per sample, shape \(256,\)"),
         ({"horizon": 0}, "horizon must be an integer >= 1"),
         ({"horizon": 2.5}, "horizon must be an integer >= 1"),

@@ -79,6 +79,7 @@ def goal_cost(
     weight: ArrayLike = 1.0,
     running_weight: float = 0.0,
     angle_indices: Sequence[int] = (),
+    position_of: Dynamics | None = None,
 ) -> CostFunction:
     """A cost on the distance of the states to a goal state: terminal, plus optionally along the way.
 
@@ -88,14 +89,17 @@ def goal_cost(
     Parameters
     ----------
     goal
-        Goal state, shape ``(n_x,)``; or a position ``(2,)`` compared with the first two state
-        components.
+        Goal state, shape ``(n_x,)`` (or its first ``m`` components, shape ``(m,)``); with
+        ``position_of``, a planar position ``(2,)``.
     weight
         Per-component weights ``w``: a scalar or shape like ``goal``, non-negative.
     running_weight
         Weight of the mean error over all steps (``0``: terminal only), ``>= 0``.
     angle_indices
         Indices (into ``goal``) of angle components, whose error is wrapped.
+    position_of
+        A model whose :meth:`~audere.dynamics.Dynamics.position` maps states to the planar points
+        compared with a position ``goal`` (e.g. the pendulum's bob); ``None`` compares states.
 
     Returns
     -------
@@ -115,9 +119,12 @@ def goal_cost(
     angles = _indices(angle_indices, n, name="angle_indices")
     if not (math.isfinite(running_weight) and running_weight >= 0):
         raise InvalidArgumentError(f"running_weight must be a finite number >= 0, got {running_weight!r}")
+    if position_of is not None and n != 2:
+        raise InvalidArgumentError(f"goal must be a position (x, y) with position_of, got {n} values")
 
     def cost(states: F, inputs: F) -> F:
-        err = _wrap(states[..., :n] - g, angles)
+        values = states[..., :n] if position_of is None else position_of.position(states)
+        err = _wrap(values - g, angles)
         sq = (w * err * err).sum(axis=-1)  # (B, T+1)
         out = sq[:, -1]
         if running_weight:
@@ -278,10 +285,20 @@ def _unit_interval(value: object, name: str) -> float:
 def cem(
     dynamics: Dynamics | str,
     x0: ArrayLike,
-    cost: CostFunction | Sequence[CostFunction],
     *,
     horizon: int,
     dt: float,
+    cost: CostFunction | Sequence[CostFunction] | None = None,
+    goal: ArrayLike | None = None,
+    goal_on: Literal["state", "position"] = "state",
+    goal_weight: ArrayLike = 1.0,
+    angle_indices: Sequence[int] = (),
+    reference: ArrayLike | None = None,
+    reference_weight: ArrayLike = 1.0,
+    obstacles: Sequence[Obstacle] = (),
+    margin: float = 0.0,
+    obstacle_weight: float = 100.0,
+    effort_weight: float = 0.0,
     u_min: ArrayLike | None = None,
     u_max: ArrayLike | None = None,
     method: IntegrationMethod = "euler",
@@ -309,15 +326,40 @@ def cem(
         The model, or its registry name (e.g. ``"pendulum"``).
     x0
         Initial state, shape ``(n_x,)``.
-    cost
-        ``cost(states (B, horizon+1, n_x), inputs (B, horizon, n_u)) -> (B,)``, lower is better
-        (``inf``/``nan`` reject a sample), or a sequence of such callables that are summed. Build
-        them with :func:`goal_cost`, :func:`tracking_cost`, :func:`obstacle_cost`,
-        :func:`effort_cost`, or write one.
     horizon
         Number of steps, ``>= 1``.
     dt
         Step length in seconds, ``> 0``.
+    cost
+        ``cost(states (B, horizon+1, n_x), inputs (B, horizon, n_u)) -> (B,)``, lower is better
+        (``inf``/``nan`` reject a sample), or a sequence of such callables that are summed. Build
+        them with :func:`goal_cost`, :func:`tracking_cost`, :func:`obstacle_cost`,
+        :func:`effort_cost`, or write one. ``None``: only the terms below. At least one term is
+        needed.
+    goal
+        Adds ``goal_cost(goal, weight=goal_weight, angle_indices=angle_indices)`` (terminal squared
+        error): a state ``(n_x,)`` when ``goal_on="state"``, a planar position ``(2,)`` (compared with
+        the model's position) when ``goal_on="position"``.
+    goal_on
+        ``"state"`` or ``"position"``: what ``goal`` is.
+    goal_weight
+        Weight per goal component (scalar or like ``goal``), ``>= 0``.
+    angle_indices
+        Indices of ``goal`` (and ``reference``) components that are angles, wrapped to ``[-pi, pi)``.
+    reference
+        Adds ``tracking_cost(reference, weight=reference_weight)``: shape ``(horizon+1, m)``, the
+        first ``m`` state components wanted at every step.
+    reference_weight
+        Weight per reference component, ``>= 0``.
+    obstacles
+        Adds ``obstacle_cost(obstacles, margin=margin, weight=obstacle_weight)`` on the model's
+        planar positions: circles, squares, rectangles or polygons.
+    margin
+        Clearance wanted from the obstacles, metres, ``>= 0``.
+    obstacle_weight
+        Weight of the obstacle penalty, ``>= 0``.
+    effort_weight
+        Adds ``effort_cost(weight=effort_weight)`` when ``> 0``.
     u_min
         Lower input bounds, a scalar or shape ``(n_u,)``; default the model's. Samples are clipped.
     u_max
@@ -364,8 +406,8 @@ def cem(
 
     Examples
     --------
-    >>> from audere.planners import cem, goal_cost
-    >>> result = cem("single_integrator", [0.0, 0.0], goal_cost([1.0, 1.0]), horizon=5, dt=1.0,
+    >>> from audere.planners import cem
+    >>> result = cem("single_integrator", [0.0, 0.0], goal=[1.0, 1.0], horizon=5, dt=1.0,
     ...              u_min=-0.5, u_max=0.5)
     >>> result.status, bool(result.cost < 1e-2)
     ('solved', True)
@@ -378,13 +420,46 @@ def cem(
         raise InvalidArgumentError(
             f"x0 must have shape ({n_x},) {tuple(model.state_names)}, got shape {start.shape}"
         )
-    costs = (cost,) if callable(cost) else tuple(cost) if isinstance(cost, Sequence) else ()
-    if not costs or not all(callable(c) for c in costs):
-        raise InvalidArgumentError(
-            "cost must be a callable cost(states, inputs) -> (B,) or a non-empty sequence of them, "
-            f"got {cost!r}"
-        )
     steps = _positive_int(horizon, "horizon")
+    costs: tuple[CostFunction, ...] = ()
+    if cost is not None:
+        costs = (cost,) if callable(cost) else tuple(cost) if isinstance(cost, Sequence) else ()
+        if not costs or not all(callable(c) for c in costs):
+            raise InvalidArgumentError(
+                "cost must be a callable cost(states, inputs) -> (B,) or a non-empty sequence of them, "
+                f"got {cost!r}"
+            )
+    if goal_on not in ("state", "position"):
+        raise InvalidArgumentError(f"goal_on must be 'state' or 'position', got {goal_on!r}")
+    if goal is not None:
+        g = as_float_array(goal, name="goal", ndim=1)
+        expected = n_x if goal_on == "state" else 2
+        if g.shape != (expected,):
+            raise InvalidArgumentError(
+                f"goal must have shape ({expected},) when goal_on={goal_on!r}, got shape {g.shape}"
+            )
+        position_of = model if goal_on == "position" else None
+        costs += (goal_cost(g, weight=goal_weight, angle_indices=angle_indices, position_of=position_of),)
+    if reference is not None:
+        ref = as_float_array(reference, name="reference", ndim=2)
+        if len(ref) != steps + 1 or ref.shape[1] > n_x:
+            raise InvalidArgumentError(
+                f"reference must have shape ({steps + 1}, m) (horizon + 1 rows, m <= {n_x} state "
+                f"components), got shape {ref.shape}"
+            )
+        ref_angles = tuple(i for i in angle_indices if isinstance(i, int) and i < ref.shape[1])
+        costs += (tracking_cost(ref, weight=reference_weight, angle_indices=ref_angles),)
+    if len(obstacles):
+        costs += (obstacle_cost(obstacles, dynamics=model, margin=margin, weight=obstacle_weight),)
+    if not (isinstance(effort_weight, int | float) and math.isfinite(effort_weight) and effort_weight >= 0):
+        raise InvalidArgumentError(f"effort_weight must be a finite number >= 0, got {effort_weight!r}")
+    if effort_weight > 0:
+        costs += (effort_cost(weight=effort_weight),)
+    if not costs:
+        raise InvalidArgumentError(
+            "nothing to minimize: give cost (a callable), or at least one of goal, reference, obstacles "
+            "or effort_weight > 0"
+        )
     pop = _positive_int(population, "population", 2)
     iters = _positive_int(iterations, "iterations")
     elite = _unit_interval(elite_fraction, "elite_fraction")

@@ -71,7 +71,7 @@ def solve_pendulum_swingup(task: ReachAvoidTask) -> Solution:
     swing = cem(
         model,
         task.x0,
-        goal_cost(goal, weight=[1.0, 0.1], running_weight=1.0, angle_indices=angles),
+        cost=goal_cost(goal, weight=[1.0, 0.1], running_weight=1.0, angle_indices=angles),
         iterations=60,
         **common,
     )
@@ -80,7 +80,8 @@ def solve_pendulum_swingup(task: ReachAvoidTask) -> Solution:
     refined = cem(
         model,
         task.x0,
-        goal_cost(goal, weight=1.0, angle_indices=angles),
+        goal=goal,
+        angle_indices=angles,
         iterations=40,
         init_mean=swing.inputs,
         init_std=0.5,
