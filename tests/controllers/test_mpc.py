@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import re
 import time
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -460,3 +462,15 @@ def test_registered_and_typed() -> None:
     solution = result.to_solution()
     assert solution.inputs is not None
     assert solution.inputs.shape == (3, 2)
+
+
+# ------------------------------------------------------------------------------------------ docs
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "apis" / "mpc.md"
+
+
+@pytest.mark.parametrize("index", range(2))
+def test_doc_examples_run(index: int) -> None:
+    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S)
+    assert len(blocks) == 2
+    exec(compile(blocks[index], str(DOC), "exec", dont_inherit=True), {"__name__": f"docs_mpc_{index}"})

@@ -410,7 +410,7 @@ class _Problem:
         )
 
 
-def _classify(solver: str, status: str) -> Status:
+def _classify(status: str) -> Status:
     """Map a solver's failure status to ``infeasible``, ``time_limit`` or ``failed``."""
     text = status.lower()
     if "infeasib" in text:
@@ -762,7 +762,7 @@ def mpc(
         if result.success:
             plan, plan_age = result, 0
         else:
-            kind = _classify(chosen, result.status)
+            kind = _classify(result.status)
             if failure is None:
                 failed_step, failure = k, (kind, f"step {k}: {chosen} returned {result.status!r}")
             _LOG.debug("mpc step %d: %s returned %s", k, chosen, result.status)
@@ -785,7 +785,8 @@ def mpc(
             if failure is None:
                 failed_step, failure = k, ("failed", f"step {k}: the simulated state is not finite")
             break
-        previous = result
+        # A failed solve's iterate still seeds the next one, unless it is not finite.
+        previous = result if np.all(np.isfinite(result.w)) else None
 
     inputs = np.asarray(applied, dtype=np.float64).reshape(-1, n_u)
     states = model.rollout(x_init, inputs, step_dt, method=meth)  # type: ignore[arg-type]
