@@ -10,6 +10,8 @@ from typing import Any
 import numpy as np
 import pytest
 import scipy.linalg
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from audere.apis._registry import _REGISTRY
 from audere.controllers import MPCResult, mpc
@@ -64,6 +66,30 @@ def test_matches_lqr_with_terminal_value_matrix(solver: str) -> None:
     np.testing.assert_allclose(result.inputs, inputs, atol=1e-5)
     np.testing.assert_allclose(result.states, states, atol=1e-5)
     assert result.cost == pytest.approx(float(X0_DI @ p @ X0_DI), rel=1e-6)
+
+
+@settings(max_examples=10)
+@given(
+    x0=st.lists(st.floats(-2.0, 2.0), min_size=4, max_size=4),
+    q=st.lists(st.floats(0.01, 10.0), min_size=4, max_size=4),
+    r=st.floats(0.01, 10.0),
+    horizon=st.integers(1, 8),
+)
+def test_lqr_equivalence_holds_for_any_weights_and_start(
+    x0: list[float], q: list[float], r: float, horizon: int
+) -> None:
+    model = get_dynamics("double_integrator")
+    a, b = model.linearize(np.zeros(4), np.zeros(2), DT)
+    qm, rm = np.diag(q), r * np.eye(2)
+    p = scipy.linalg.solve_discrete_are(a, b, qm, rm)
+    k = np.linalg.solve(rm + b.T @ p @ b, b.T @ p @ a)
+    start = np.array(x0)
+    result = mpc(model, start, steps=5, horizon=horizon, dt=DT, Q=q, R=r, Qf=p, solver="qrqp")
+    assert result.status == "solved"
+    x = start
+    for u in result.inputs:
+        np.testing.assert_allclose(u, -k @ x, atol=1e-6 * max(1.0, float(np.abs(k @ x).max())))
+        x = model.step(x, u, DT)
 
 
 def test_long_horizon_matches_lqr_cost_with_default_terminal_weight() -> None:
