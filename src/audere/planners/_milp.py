@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+import warnings
 from collections.abc import Mapping, Sequence
 from typing import Any, Literal
 
@@ -446,7 +447,13 @@ def milp(
     # --- solve ---------------------------------------------------------------------------------------
     problem, xc, xb = _to_cvxpy(cp, model, cost)
     try:
-        problem.solve(solver=solver_name, **_solver_options(solver_name, time_limit))
+        # cvxpy warns when a solver stops early ("Solution may be inaccurate"): the status and the
+        # message of the result say so instead; the warnings go to the log.
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            problem.solve(solver=solver_name, **_solver_options(solver_name, time_limit))
+        for warning in caught:
+            logger.debug("cvxpy: %s", warning.message)
     except cp.error.SolverError as exc:
         return _result(
             "failed", f"{solver_name} failed: {exc}", solver_name, "solver_error", started, model, objective

@@ -305,7 +305,7 @@ class StlEncoder:
         if isinstance(node, Not) and isinstance(node.child, In):
             return self._halfspaces(node.child.name, t, negate=True)
         if isinstance(node, Until):
-            return self._max_terms_until(node, t, node.lo)
+            return self._max_terms_until(node, t, 0)
         return [self.rho(node, t)]
 
     def _max_terms_until(self, node: Until, t: int, k: int) -> list[Affine]:

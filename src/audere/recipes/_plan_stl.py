@@ -33,7 +33,7 @@ def solve_plan_stl(task: STLTask) -> Solution:
     """
     result = milp(
         task.formula,
-        task.regions,  # type: ignore[arg-type]  # plan-stl's regions are all Rectangles
+        task.regions,  # all Rectangles in plan-stl
         task.x0,
         horizon=task.horizon,
         dt=task.dt,
