@@ -16,6 +16,7 @@ _EXPORTS: dict[str, str] = {
     "CEMResult": "_cem",
     "CellGraph": "_astar",
     "CostFunction": "_cem",
+    "GradResult": "_grad",
     "MILPResult": "_milp",
     "OccupancyGrid": "_astar",
     "astar": "_astar",
@@ -24,10 +25,12 @@ _EXPORTS: dict[str, str] = {
     "cem": "_cem",
     "effort_cost": "_cem",
     "goal_cost": "_cem",
+    "grad": "_grad",
     "milp": "_milp",
     "obstacle_cost": "_cem",
     "occupancy_grid": "_astar",
     "shortcut": "_astar",
+    "smooth_robustness": "_grad",
     "tracking_cost": "_cem",
 }
 
