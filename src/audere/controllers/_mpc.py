@@ -769,7 +769,8 @@ def mpc(
             if kind == "infeasible":
                 break
         if run_mode == "open_loop":
-            applied = [np.clip(u, u_lo, u_hi) for u in result.inputs[:n_steps]]
+            finite = np.nan_to_num(result.inputs[:n_steps], nan=0.0, posinf=0.0, neginf=0.0)
+            applied = [np.clip(u, u_lo, u_hi) for u in finite]
             break
         if result.success:
             u = result.inputs[0]
@@ -790,6 +791,12 @@ def mpc(
 
     inputs = np.asarray(applied, dtype=np.float64).reshape(-1, n_u)
     states = model.rollout(x_init, inputs, step_dt, method=meth)  # type: ignore[arg-type]
+    finite_rows = np.isfinite(states).all(axis=1)
+    if not finite_rows.all():  # the model diverged under the applied inputs: keep the finite prefix
+        k = int(np.argmin(finite_rows))
+        states, inputs = states[:k], inputs[: k - 1]
+        if failure is None:
+            failed_step, failure = k - 1, ("failed", f"step {k - 1}: the simulated state is not finite")
     cost = _trajectory_cost(model, states, inputs, target, on_position, q, r, qf)
     last = solves[-1]
     if failure is None:
