@@ -332,7 +332,10 @@ def lqr(
             gains[k] = solved[0]
             if k == 0:
                 p_first = solved[1]
-        terminal = dare(a_t, b_t) if terminal_weight is None else None
+        terminal = None
+        if terminal_weight is None:
+            key = a_t.tobytes() + b_t.tobytes()
+            terminal = cache[key] if key in cache else dare(a_t, b_t)
         p_final = (
             _weight(terminal_weight, n_x, name="terminal_weight", default=1.0, positive=False)
             if terminal_weight is not None
