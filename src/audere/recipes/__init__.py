@@ -28,6 +28,7 @@ _MODULES: tuple[str, ...] = (
     # "_plan_easy",
     "_arm_reach",
     "_pendulum_swingup",
+    "_plan_easy",
     "_plan_hard",
     "_plan_stl",
     "_reach_unicycle",
