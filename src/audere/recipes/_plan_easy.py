@@ -62,4 +62,5 @@ def solve_plan_easy(task: ReachAvoidTask) -> Solution:
         )
     if not result.solved:
         raise RuntimeError(f"no path found for {task.name}: {result.status}: {result.message}")
-    return result.to_solution()
+    solution: Solution = result.to_solution()
+    return solution
