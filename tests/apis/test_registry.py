@@ -178,9 +178,15 @@ def test_builtin_modules_are_the_eight() -> None:
     assert short == ["astar", "cem", "grad", "lqr", "milp", "mpc", "pid", "rrt"]
 
 
+def test_all_eight_are_registered_from_their_modules() -> None:
+    builtin = {i.name: i for i in list_apis() if i.module in _registry._BUILTIN_MODULES}
+    assert sorted(builtin) == ["astar", "cem", "grad", "lqr", "milp", "mpc", "pid", "rrt"]
+    for name, info in builtin.items():
+        assert info.module.rsplit("._", 1)[1] == name
+
+
 def test_missing_builtin_module_is_an_error(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setattr(_registry, "_loaded", False)
-    monkeypatch.setattr(_registry, "_SKIP_MISSING", False)
     monkeypatch.setattr(_registry, "_BUILTIN_MODULES", ("audere.planners._no_such_api",))
     with pytest.raises(ImportError, match=r"built-in API module 'audere\.planners\._no_such_api' is missing"):
         list_apis()

@@ -54,7 +54,6 @@ class ApiInfo:
 
 _REGISTRY: dict[str, ApiInfo] = {}
 _loaded = False
-_SKIP_MISSING = True  # development only: the final version is strict
 
 
 def _problems(function: Callable[..., Any]) -> list[str]:
@@ -171,8 +170,6 @@ def _load() -> None:
         except ModuleNotFoundError as exc:
             if exc.name != module:
                 raise
-            if _SKIP_MISSING:
-                continue
             raise ImportError(
                 f"the built-in API module {module!r} is missing from this installation"
             ) from exc
