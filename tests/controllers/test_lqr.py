@@ -4,6 +4,8 @@ feed-forward inference, angle wrapping, statuses and bad inputs."""
 from __future__ import annotations
 
 import math
+import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -181,3 +183,11 @@ def test_bad_inputs(kwargs: dict[str, object], match: str) -> None:
     args.update(kwargs)
     with pytest.raises(InvalidArgumentError, match=match):
         lqr(**args)  # type: ignore[arg-type]
+
+
+def test_docs_page_examples_run() -> None:
+    page = Path(__file__).resolve().parents[2] / "docs" / "apis" / "lqr.md"
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, str(page), "exec"), {"__name__": "docs_example"})

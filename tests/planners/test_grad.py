@@ -3,6 +3,9 @@ the differentiable signed distance against the world's, determinism, statuses an
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -263,3 +266,11 @@ def test_smooth_robustness_bad_inputs() -> None:
         smooth_robustness("F[0,1] x >= 0", np.zeros((3, 3)), {})
     with pytest.raises(InvalidArgumentError, match="temperature must be"):
         smooth_robustness("F[0,1] x >= 0", np.zeros((3, 2)), {}, temperature=-1.0)
+
+
+def test_docs_page_examples_run() -> None:
+    page = Path(__file__).resolve().parents[2] / "docs" / "apis" / "grad.md"
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, str(page), "exec"), {"__name__": "docs_example"})
