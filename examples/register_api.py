@@ -14,9 +14,17 @@ import time
 import numpy as np
 from numpy.typing import ArrayLike
 
-from audere._arrays import as_float_array
 from audere.apis import Result, api_card, catalog, get_api, register_api, tool_schema, validate_call
+from audere.errors import InvalidArgumentError
 from audere.world import World
+
+
+def _point(value: ArrayLike, *, name: str) -> np.ndarray:
+    """``value`` as a finite (2,) float array, or an error naming the argument."""
+    point = np.asarray(value, dtype=np.float64)
+    if point.shape != (2,) or not np.all(np.isfinite(point)):
+        raise InvalidArgumentError(f"{name} must be a finite (x, y) position of shape (2,), got {value!r}")
+    return point
 
 
 class StraightLineResult(Result):
@@ -66,11 +74,9 @@ def straight_line(
     'solved'
     """
     t0 = time.perf_counter()
-    p = as_float_array(start, name="start", shape=(2,))
-    q = as_float_array(goal, name="goal", shape=(2,))
+    p = _point(start, name="start")
+    q = _point(goal, name="goal")
     if isinstance(n_points, bool) or not isinstance(n_points, int) or n_points < 2:
-        from audere.errors import InvalidArgumentError
-
         raise InvalidArgumentError(f"n_points must be an integer >= 2, got {n_points!r}")
     waypoints = np.linspace(p, q, n_points)
     if not bool(np.all(world.in_workspace(waypoints))):
@@ -110,6 +116,8 @@ def main() -> None:
     }
     result = straight_line(**validate_call("straight_line", call))
     print(result.status, result.length)
+    blocked = straight_line(**validate_call("straight_line", {**call, "goal": [9, 9]}))
+    print(blocked.status)
 
 
 if __name__ == "__main__":

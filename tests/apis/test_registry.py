@@ -422,4 +422,4 @@ def test_register_example_runs() -> None:
     assert done.returncode == 0, done.stderr
     assert "straight_line: Straight segment from start to goal" in done.stdout
     assert "def straight_line(" in done.stdout
-    assert done.stdout.strip().endswith("solved 8.0")
+    assert done.stdout.strip().endswith("solved 8.0\ninfeasible")
