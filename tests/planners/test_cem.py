@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -244,3 +247,11 @@ def test_bad_inputs(kwargs: dict[str, object], match: str) -> None:
 def test_bad_factory_inputs(factory: object, match: str) -> None:
     with pytest.raises(InvalidArgumentError, match=match):
         factory()  # type: ignore[operator]
+
+
+def test_docs_page_examples_run() -> None:
+    page = Path(__file__).resolve().parents[2] / "docs" / "apis" / "cem.md"
+    blocks = re.findall(r"```python\n(.*?)```", page.read_text(encoding="utf-8"), re.S)
+    assert blocks
+    for block in blocks:
+        exec(compile(block, str(page), "exec"), {"__name__": "docs_example"})
