@@ -255,3 +255,17 @@ def test_docs_page_examples_run() -> None:
     assert blocks
     for block in blocks:
         exec(compile(block, str(page), "exec"), {"__name__": "docs_example"})
+
+
+def test_start_inside_an_obstacle_is_infeasible() -> None:
+    result = cem(
+        SINGLE,
+        [1.0, 0.0],
+        goal=[3.0, 0.0],
+        obstacles=[Circle(center=(1.0, 0.0), radius=0.5)],
+        horizon=5,
+        dt=1.0,
+    )
+    assert result.status == "infeasible"
+    assert "inside obstacles[0]" in result.message
+    assert result.inputs is None

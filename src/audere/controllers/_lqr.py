@@ -328,6 +328,7 @@ def lqr(
                     started,
                     f"no stabilizing solution of the discrete Riccati equation at reference step {k} "
                     "(the linearization is not stabilizable with these weights)",
+                    mode=used,
                 )
             gains[k] = solved[0]
             if k == 0:
@@ -353,7 +354,7 @@ def lqr(
         for k in range(horizon - 1, -1, -1):
             gains[k], p = _riccati_step(a_k[k], b_k[k], q, r, p)
             if not np.all(np.isfinite(p)):
-                return _failed(started, f"the Riccati recursion diverged at step {k}")
+                return _failed(started, f"the Riccati recursion diverged at step {k}", mode=used)
         riccati = p
         message = "time-varying gains from the backward Riccati recursion"
 
@@ -382,7 +383,7 @@ def lqr(
             message = f"the closed loop diverged at step {k + 1}"
             break
     if status != "solved":
-        return _failed(started, message, status=status)
+        return _failed(started, message, mode=used, status=status)
     errors = _wrap(states - ref, angles)
     cost += float(errors[-1] @ p_final @ errors[-1])
     norms = np.linalg.norm(errors, axis=1)
@@ -405,7 +406,13 @@ def lqr(
     )
 
 
-def _failed(started: float, message: str, *, status: Literal["time_limit", "failed"] = "failed") -> LQRResult:
+def _failed(
+    started: float,
+    message: str,
+    *,
+    mode: Literal["stationary", "time_varying"],
+    status: Literal["time_limit", "failed"] = "failed",
+) -> LQRResult:
     empty = np.zeros((0,))
     return LQRResult(
         status=status,
@@ -418,5 +425,5 @@ def _failed(started: float, message: str, *, status: Literal["time_limit", "fail
         mean_tracking_error=math.inf,
         max_tracking_error=math.inf,
         saturated_steps=0,
-        mode="stationary",
+        mode=mode,
     )

@@ -396,7 +396,8 @@ def cem(
         ``times`` (horizon+1,), ``cost``, ``cost_history`` (best cost after each iteration),
         ``iterations``, ``samples``, the final ``mean`` and ``std``, and ``status``: ``solved`` (all
         iterations ran or ``target_cost`` was reached), ``time_limit`` (stopped by the budget; the best
-        sequence so far is returned) or ``failed`` (no sample had a finite cost).
+        sequence so far is returned), ``infeasible`` (the start is inside one of ``obstacles``) or
+        ``failed`` (no sample had a finite cost).
 
     Raises
     ------
@@ -487,6 +488,20 @@ def cem(
     if np.any(std <= 0):
         raise InvalidArgumentError(f"init_std must be > 0, got minimum {float(std.min())}")
 
+    if len(obstacles):
+        p0 = model.position(start)
+        for i, shape in enumerate(obstacles):
+            if float(signed_distance(shape, p0)) < 0:
+                return CEMResult(
+                    status="infeasible",
+                    message=f"the start position ({p0[0]:g}, {p0[1]:g}) is inside obstacles[{i}]",
+                    solve_time=time.perf_counter() - started,
+                    cost_history=np.zeros(0),
+                    iterations=0,
+                    samples=0,
+                    mean=mean,
+                    std=std,
+                )
     rng = np.random.default_rng(seed)
     n_elite = max(1, math.ceil(elite * pop))
     best_inputs = mean.copy()
