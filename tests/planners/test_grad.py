@@ -8,6 +8,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from audere import stl
 from audere.dynamics import get_dynamics
@@ -151,6 +153,25 @@ def test_smooth_robustness_tends_to_the_exact_robustness(spec: str) -> None:
     single = smooth_robustness(spec, positions[0], REGIONS, temperature=1e-4)
     assert single.shape == ()
     assert float(single) == pytest.approx(exact[0], abs=1e-3)
+
+
+@given(
+    steps=st.lists(st.tuples(st.floats(-1.0, 1.0), st.floats(-1.0, 1.0)), min_size=2, max_size=12),
+    width=st.integers(0, 10),
+    tau=st.sampled_from([1.0, 0.1, 0.01]),
+)
+def test_soft_minimum_brackets_the_exact_robustness(
+    steps: list[tuple[float, float]], width: int, tau: float
+) -> None:
+    # For a min-only formula (G over a circle) the soft minimum is a lower bound within tau * log(n).
+    positions = np.cumsum(np.array([(0.0, 0.0), *steps]), axis=0)
+    hi = min(width, len(positions) - 1)
+    spec = f"G[0,{hi}] in(A)"
+    regions = {"A": Circle(center=(0.5, 0.5), radius=1.0)}
+    exact = stl.robustness(spec, positions, regions)
+    soft = float(smooth_robustness(spec, positions, regions, temperature=tau))
+    assert soft <= exact + 1e-12
+    assert soft >= exact - tau * np.log(hi + 1) - 1e-12
 
 
 def test_satisfies_an_stl_spec() -> None:
