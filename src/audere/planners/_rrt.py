@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import math
 import operator
 import time
@@ -318,9 +319,14 @@ def rrt(
             waypoints = np.vstack([waypoints, p_goal])
         if interpolate is not None:
             waypoints = _safe_interpolate(planning_world, waypoints, interpolate)
-        bad = planning_world.first_collision(waypoints)
-        if bad is not None or float(np.hypot(*(waypoints[-1] - p_goal))) > tolerance:
-            # Should not happen (every motion was checked exactly); never return a colliding path.
+        # A last exact check of the returned path (the checker answers exactly as the World does).
+        # It cannot fail for the planner's own motions; it guards the goal and interpolation steps.
+        clear = all(checker.point_free(float(x), float(y)) for x, y in waypoints) and all(
+            checker.segment_free(float(a[0]), float(a[1]), float(b[0]), float(b[1]))
+            for a, b in itertools.pairwise(waypoints)
+        )
+        if not clear or float(np.hypot(*(waypoints[-1] - p_goal))) > tolerance:
+            bad = planning_world.first_collision(waypoints)
             status, message = "failed", f"the planner's path does not pass the exact check: {bad}"
     goal_distance = float(np.hypot(*(waypoints[-1] - p_goal))) if waypoints is not None else None
     return RRTResult(
