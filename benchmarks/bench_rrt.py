@@ -93,20 +93,16 @@ def main() -> None:
                 if "1 s" not in label:
                     call.setdefault(label, []).append(result.solve_time)
                     inner.setdefault(label, []).append(result.first_solution_time or result.solve_time)
-                ratio.setdefault(label, []).append(float(result.cost or 0) / lower)
-                if label == "OMPL RRT":
-                    ratio.setdefault("OMPL RRT, simplified", []).append(
-                        _length(
-                            np.asarray(
-                                rrt(
-                                    world, start, goal, goal_tolerance=tol, seed=seed, algorithm="rrt"
-                                ).waypoints
-                            )
+                ratio.setdefault(label, []).append(_length(result.waypoints, goal) / lower)
+                if label == "OMPL RRT":  # the same run (same seed) with the simplifier on
+                    simplified = rrt(world, start, goal, goal_tolerance=tol, seed=seed, algorithm="rrt")
+                    if simplified.waypoints is not None:
+                        ratio.setdefault("OMPL RRT, simplified", []).append(
+                            _length(simplified.waypoints, goal) / lower
                         )
-                        / lower
-                    )
-                if "RRT* 1 s" in label and result.raw_cost is not None:
-                    ratio.setdefault(label + ", before simplification", []).append(result.raw_cost / lower)
+                if "RRT* 1 s" in label and result.raw_waypoints is not None:
+                    raw = _length(result.raw_waypoints, goal) / lower
+                    ratio.setdefault(label + ", before simplification", []).append(raw)
 
         base = statistics.median(call["baseline RRT"])
         print(f"### {scenario}: time to first solution ({args.seeds} seeds)")
