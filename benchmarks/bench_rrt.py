@@ -6,7 +6,8 @@ instance, so machine load hits all alike:
 
 - ``baseline RRT``: benchmarks/_baseline_rrt.py (linear-scan nearest neighbour, 20 sampled points per
   edge, step 0.5 m, goal bias 0.05);
-- ``OMPL RRT`` and ``OMPL RRT-Connect``: ``rrt(..., algorithm=...)``, simplification off;
+- ``OMPL RRT`` and ``OMPL RRT-Connect``: ``rrt(..., algorithm=...)``, simplification off, OMPL's
+  default range (a fifth of the workspace diagonal, 2.8 m here), and again with ``range=1.0``;
 - ``OMPL RRT* (first)``: ``rrt_star`` with ``stop_at_first=True``;
 - ``OMPL RRT* 1 s`` and ``OMPL informed RRT* 1 s``: a 1 s budget, simplified (the defaults).
 
@@ -79,6 +80,18 @@ def main() -> None:
             runs = {
                 "OMPL RRT": {"algorithm": "rrt", "simplify": False, "time_limit": 30.0},
                 "OMPL RRT-Connect": {"algorithm": "rrt_connect", "simplify": False, "time_limit": 30.0},
+                "OMPL RRT, range 1 m": {
+                    "algorithm": "rrt",
+                    "range": 1.0,
+                    "simplify": False,
+                    "time_limit": 30.0,
+                },
+                "OMPL RRT-Connect, range 1 m": {
+                    "algorithm": "rrt_connect",
+                    "range": 1.0,
+                    "simplify": False,
+                    "time_limit": 30.0,
+                },
                 "OMPL RRT* (first)": {"algorithm": "rrt_star", "stop_at_first": True, "simplify": False},
                 "OMPL RRT* 1 s": {"algorithm": "rrt_star", "time_limit": args.budget},
                 "OMPL informed RRT* 1 s": {"algorithm": "informed_rrt_star", "time_limit": args.budget},
