@@ -7,6 +7,7 @@ import math
 import re
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -335,3 +336,14 @@ def test_importing_does_not_import_ompl() -> None:
 def test_docstring_example() -> None:
     failures, _ = doctest.testmod(rrt_module, optionflags=doctest.ELLIPSIS, verbose=False)
     assert failures == 0
+
+
+DOC = Path(__file__).resolve().parents[2] / "docs" / "apis" / "rrt.md"
+DOC_BLOCKS = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S)
+
+
+@pytest.mark.parametrize("source", DOC_BLOCKS, ids=[f"block{i}" for i in range(len(DOC_BLOCKS))])
+def test_doc_examples_print_what_they_say(source: str, capsys: pytest.CaptureFixture[str]) -> None:
+    exec(compile(source, str(DOC), "exec", dont_inherit=True), {"__name__": "docs_apis_rrt"})
+    expected = [line[2:] for line in source.splitlines() if line.startswith("# ")]
+    assert capsys.readouterr().out.splitlines() == expected
