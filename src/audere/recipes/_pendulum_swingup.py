@@ -1,24 +1,29 @@
-"""Recipe for ``pendulum-swingup``: cross-entropy swing-up, refined, then LQR at the top.
+"""Recipe for ``pendulum-swingup``: a cross-entropy swing-up, then LQR holds the pendulum upright.
 
 The motor is too weak to lift the pendulum directly (3.5 N m against m g l = 9.81 N m), so the
-inputs must pump energy over several swings: a non-convex problem that suits a sampling
-optimizer. The recipe runs three stages:
+inputs must pump energy over several swings: a non-convex problem that suits a sampling optimizer,
+while holding the upright equilibrium is a textbook job for LQR. The recipe:
 
-1. **CEM swing-up** over the whole horizon with a cost that pulls towards the upright state at the
-   end and, more weakly, all along the way (``goal_cost(..., running_weight=1)``);
-2. **CEM refinement** of that sequence with a small sampling spread and the checker's own terminal
-   metric (the wrapped distance to ``(pi, 0)``), stopping once it is well within tolerance;
-3. **LQR stabilization**: from the first state within reach of the upright equilibrium, a
-   stationary LQR regulator (angle error wrapped) replaces the remaining open-loop inputs, kept
-   only when its final state is closer to the goal.
+1. **CEM swing-up** over the first 70 % of the horizon, with a cost that pulls towards the upright
+   state at the end of that window and, more weakly, all along the way
+   (``goal_cost(..., running_weight=1)``);
+2. **CEM refinement** of that sequence with a small sampling spread on the squared (wrapped)
+   distance to the upright state, until it is within a quarter of the tolerance;
+3. **LQR stabilization** for the remaining steps: a stationary regulator around ``(pi, 0)`` with the
+   angle error wrapped, which drives the pendulum to the equilibrium and keeps it there.
+
+If the hand-over fails (LQR does not end well within the tolerance), the recipe falls back to the
+same two CEM stages over the whole horizon.
 """
 
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 
+from audere.apis import Result
 from audere.controllers import lqr
 from audere.errors import InvalidArgumentError
 from audere.planners import cem, goal_cost
@@ -27,14 +32,47 @@ from audere.tasks import ReachAvoidTask, Solution
 
 __all__ = ["solve_pendulum_swingup"]
 
-BASIN = 0.3
-"""States whose (wrapped) distance to the upright state is below this are handed to LQR."""
+SWING_FRACTION = 0.7
+"""Share of the horizon given to the swing-up; LQR holds the pendulum for the rest."""
 
 
-def _distance(states: np.ndarray, goal: np.ndarray) -> np.ndarray:
-    err = states - goal
-    err[..., 0] = (err[..., 0] + math.pi) % (2 * math.pi) - math.pi
-    return np.asarray(np.linalg.norm(err, axis=-1))
+def _swing_up(task: ReachAvoidTask, horizon: int) -> Result:
+    """CEM swing-up to the goal state at step ``horizon``, then a CEM refinement of it."""
+    goal = np.asarray(task.goal, dtype=np.float64)
+    angles = tuple(task.angle_indices)
+    common: dict[str, Any] = {
+        "horizon": horizon,
+        "dt": task.dt,
+        "u_min": task.u_min,
+        "u_max": task.u_max,
+        "method": task.integrator,
+        "population": 256,
+        "elite_fraction": 0.1,
+        "smoothing": 0.1,
+        "seed": 0,
+    }
+    # 1. Global search: get up there, preferably early.
+    swing = cem(
+        task.model,
+        task.x0,
+        cost=goal_cost(goal, weight=[1.0, 0.1], running_weight=1.0, angle_indices=angles),
+        iterations=60,
+        **common,
+    )
+    # 2. Local refinement on the squared wrapped distance to the goal state at the end.
+    refined = cem(
+        task.model,
+        task.x0,
+        goal=goal,
+        angle_indices=angles,
+        iterations=40,
+        init_mean=swing.inputs,
+        init_std=0.5,
+        target_cost=(0.25 * task.goal_tolerance) ** 2,
+        **common,
+    )
+    better: Result = refined if (refined.cost or math.inf) <= (swing.cost or math.inf) else swing
+    return better
 
 
 @recipe("pendulum-swingup", apis=("cem", "lqr"))
@@ -55,52 +93,14 @@ def solve_pendulum_swingup(task: ReachAvoidTask) -> Solution:
     if model is None:  # pragma: no cover - the scenario always has a model
         raise InvalidArgumentError("task must have the pendulum model, got dynamics=None")
     goal = np.asarray(task.goal, dtype=np.float64)
-    angles = tuple(task.angle_indices)
-    common = {
-        "horizon": task.horizon,
-        "dt": task.dt,
-        "u_min": task.u_min,
-        "u_max": task.u_max,
-        "method": task.integrator,
-        "population": 256,
-        "elite_fraction": 0.1,
-        "smoothing": 0.1,
-        "seed": 0,
-    }
-    # 1. Global search: get up there, preferably early.
-    swing = cem(
-        model,
-        task.x0,
-        cost=goal_cost(goal, weight=[1.0, 0.1], running_weight=1.0, angle_indices=angles),
-        iterations=60,
-        **common,
-    )
-    # 2. Local refinement on the checker's metric (squared wrapped distance at the end).
-    target = (0.25 * task.goal_tolerance) ** 2
-    refined = cem(
-        model,
-        task.x0,
-        goal=goal,
-        angle_indices=angles,
-        iterations=40,
-        init_mean=swing.inputs,
-        init_std=0.5,
-        target_cost=target,
-        **common,
-    )
-    best = refined if refined.cost is not None and refined.cost <= (swing.cost or math.inf) else swing
-    if best.inputs is None or best.states is None:  # pragma: no cover - cem always returns a sequence here
-        raise RuntimeError(f"CEM returned no input sequence: {best.message}")
-    inputs, states = best.inputs, best.states
-    # 3. LQR from the first state close to the top: regulate to the upright equilibrium.
-    distance = _distance(states, goal)
-    near = np.flatnonzero(distance[:-1] < BASIN)
-    if near.size:
-        k = int(near[0])
-        rest = task.horizon - k
+    swing_steps = max(1, int(SWING_FRACTION * task.horizon))
+    swing = _swing_up(task, swing_steps)
+    if swing.inputs is not None and swing.states is not None:
+        # 3. LQR from the end of the swing-up: regulate to the upright equilibrium.
+        rest = task.horizon - swing_steps
         hold = lqr(
             model,
-            states[k],
+            swing.states[-1],
             goal,
             dt=task.dt,
             reference_inputs=np.zeros((rest, model.n_u)),
@@ -108,9 +108,13 @@ def solve_pendulum_swingup(task: ReachAvoidTask) -> Solution:
             input_weight=0.1,
             u_min=task.u_min,
             u_max=task.u_max,
-            angle_indices=angles,
+            angle_indices=tuple(task.angle_indices),
             method=task.integrator,
         )
-        if hold.solved and hold.inputs is not None and hold.tracking_error[-1] < distance[-1]:
-            inputs = np.concatenate([inputs[:k], hold.inputs])
-    return Solution(inputs=inputs)
+        if hold.solved and hold.inputs is not None and hold.tracking_error[-1] < 0.5 * task.goal_tolerance:
+            return Solution(inputs=np.concatenate([swing.inputs, hold.inputs]))
+    # Fallback: the swing-up over the whole horizon, ending at the goal.
+    whole = _swing_up(task, task.horizon)
+    if whole.inputs is None:  # pragma: no cover - cem returns a sequence for finite costs
+        raise RuntimeError(f"CEM returned no input sequence: {whole.message}")
+    return Solution(inputs=whole.inputs)
