@@ -347,3 +347,22 @@ def test_doc_examples_print_what_they_say(source: str, capsys: pytest.CaptureFix
     exec(compile(source, str(DOC), "exec", dont_inherit=True), {"__name__": "docs_apis_rrt"})
     expected = [line[2:] for line in source.splitlines() if line.startswith("# ")]
     assert capsys.readouterr().out.splitlines() == expected
+
+
+@pytest.mark.parametrize("algorithm", ALGORITHMS)
+def test_start_already_at_the_goal(algorithm: str) -> None:
+    # informed samplers fail on a zero start-goal distance inside OMPL: answered before planning
+    world = World(
+        workspace=Workspace(xmin=-3, xmax=2, ymin=100, ymax=101),
+        obstacles=(Circle(center=(0, 100.5), radius=0.3),),
+    )
+    same = rrt(world, (-2.5, 100.5), (-2.5, 100.5), algorithm=algorithm)
+    assert same.solved
+    assert same.cost == 0.0
+    near = rrt(world, (-2.5, 100.5), (-2.4, 100.5), goal_tolerance=0.5, algorithm=algorithm)
+    assert near.solved
+    np.testing.assert_array_equal(near.waypoints, [[-2.5, 100.5], [-2.4, 100.5]])
+    around = rrt(world, (-2.5, 100.5), (1.5, 100.5), algorithm=algorithm, time_limit=0.2)
+    assert around.solved
+    assert_collision_free(world, around.waypoints)
+    assert 4.0 < around.cost < 4.0 * 1.05

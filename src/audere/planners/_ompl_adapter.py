@@ -419,10 +419,14 @@ def _solve(
             return True
         return now >= time_limit
 
-    status = planner.solve(ob.PlannerTerminationCondition(stop))
+    try:
+        status = planner.solve(ob.PlannerTerminationCondition(stop))
+    except RuntimeError as exc:  # OMPL's C++ exceptions (a degenerate problem, ...)
+        kind, message = "other", f"OMPL raised: {exc}"
+    else:
+        kind = _STATUS.get(status.getStatus().name, "other")
+        message = str(status.asString())
     solve_time = time.perf_counter() - t_start
-    kind = _STATUS.get(status.getStatus().name, "other")
-    message = str(status.asString())
 
     path = simplified = None
     simplify_time = 0.0

@@ -288,6 +288,25 @@ def rrt(
                 **empty_tree,
             )
 
+    if float(np.hypot(*(p_goal - p_start))) <= tolerance:
+        # Already there (OMPL's informed samplers fail on a zero start-goal distance): no search.
+        sx, sy, gx, gy = (float(v) for v in (*p_start, *p_goal))
+        path = np.array([p_start, p_goal]) if checker.segment_free(sx, sy, gx, gy) else p_start[None, :]
+        return RRTResult(
+            status="solved",
+            message="the start lies within goal_tolerance of the goal",
+            cost=_length(path),
+            solve_time=time.perf_counter() - started,
+            waypoints=path,
+            algorithm=algorithm,
+            first_solution_time=0.0,
+            tree_vertices=p_start[None, :],
+            tree_edges=np.zeros((0, 2), dtype=np.int64),
+            raw_waypoints=path,
+            raw_cost=_length(path),
+            goal_distance=float(np.hypot(*(path[-1] - p_goal))),
+        )
+
     run = run_planner(
         checker,
         (float(p_start[0]), float(p_start[1])),
