@@ -240,7 +240,7 @@ def test_constant_specs() -> None:
     assert result.robustness == math.inf
 
 
-def _hard_problem(time_limit: float) -> MILPResult:
+def _hard_problem(time_limit: float, solver: str | None = None) -> MILPResult:
     # many region visits in a long horizon: far from solved in a few milliseconds
     regions = {
         f"R{i}": Rectangle(xmin=i, xmax=i + 0.6, ymin=(3 * i) % 9, ymax=(3 * i) % 9 + 0.6) for i in range(9)
@@ -257,6 +257,7 @@ def _hard_problem(time_limit: float) -> MILPResult:
         workspace=WS,  # type: ignore[arg-type]
         objective="min_effort",
         time_limit=time_limit,
+        solver=solver,
     )
 
 
@@ -469,3 +470,9 @@ def test_the_page_has_examples() -> None:
 def test_doc_example_prints_what_it_says(source: str, capsys: pytest.CaptureFixture[str]) -> None:
     exec(compile(source, str(DOC), "exec", dont_inherit=True), {"__name__": "docs_milp"})
     assert capsys.readouterr().out.splitlines() == _shown(source)
+
+
+def test_time_limit_with_scipy() -> None:
+    # scipy.optimize.milp reports a stop at its time limit as "optimal_inaccurate": still a time limit
+    result = _hard_problem(0.3, solver="SCIPY")
+    assert result.status == "time_limit", result.message

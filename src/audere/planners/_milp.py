@@ -446,6 +446,7 @@ def milp(
 
     # --- solve ---------------------------------------------------------------------------------------
     problem, xc, xb = _to_cvxpy(cp, model, cost)
+    solve_started = time.perf_counter()
     try:
         # cvxpy warns when a solver stops early ("Solution may be inaccurate"): the status and the
         # message of the result say so instead; the warnings go to the log.
@@ -455,16 +456,23 @@ def milp(
         for warning in caught:
             logger.debug("cvxpy: %s", warning.message)
     except cp.error.SolverError as exc:
+        # cvxpy raises when a solver returns no point; at the time limit that is a time limit
+        if time.perf_counter() - solve_started >= 0.9 * time_limit:
+            message = f"time limit of {time_limit} s reached without a feasible trajectory ({exc})"
+            return _result("time_limit", message, solver_name, "solver_error", started, model, objective)
         return _result(
             "failed", f"{solver_name} failed: {exc}", solver_name, "solver_error", started, model, objective
         )
     status = str(problem.status)
     own = _status_text(problem, solver_name)
-    elapsed_solver = float(getattr(problem.solver_stats, "solve_time", None) or 0.0)
+    solve_wall = time.perf_counter() - solve_started
+    # A stop at the time limit: HiGHS and Gurobi say so (user_limit); scipy.optimize.milp reports
+    # "optimal_inaccurate" for any limit; others are recognized by the time spent.
     hit_limit = (
         "time" in own.lower()
         or status == cp.USER_LIMIT
-        or (status in (cp.OPTIMAL_INACCURATE, cp.SOLVER_ERROR) and elapsed_solver >= 0.95 * time_limit)
+        or (solver_name == "SCIPY" and status == cp.OPTIMAL_INACCURATE)
+        or (status in (cp.OPTIMAL_INACCURATE, cp.SOLVER_ERROR) and solve_wall >= 0.9 * time_limit)
     )
     point = _values(model, xc, xb)
     feasible = point is not None and model.violation(point) <= 100 * FEASIBILITY_TOLERANCE
@@ -504,10 +512,10 @@ def milp(
     checked = robustness(formula, states[:, :2], used_regions)  # type: ignore[arg-type]
     encoded = model.value(rho_expr, point) if rho_expr is not None else math.inf
     effort = float(dt * np.abs(u).sum())
-    if objective == "min_effort":
-        cost_value = effort
-    else:
-        cost_value = -min(encoded, robustness_cap if robustness_cap is not None else math.inf)
+    cost_value: float | None = effort
+    if objective == "max_robustness":
+        capped = -min(encoded, robustness_cap if robustness_cap is not None else math.inf)
+        cost_value = capped if math.isfinite(capped) else None  # None: a spec that is always true
     return _result(
         kind,
         message,
