@@ -476,3 +476,20 @@ def test_time_limit_with_scipy() -> None:
     # scipy.optimize.milp reports a stop at its time limit as "optimal_inaccurate": still a time limit
     result = _hard_problem(0.3, solver="SCIPY")
     assert result.status == "time_limit", result.message
+
+
+def test_obstacle_blocking_every_reachable_position_is_infeasible() -> None:
+    # the inputs are pinned to (0, 0.1): step 1 is (1, 1.25), inside the obstacle
+    cover = Rectangle(xmin=0.4, xmax=1.6, ymin=1.2, ymax=3.0)
+    result = milp(
+        "F[0,2] x >= 0",
+        {},
+        (1, 1.15),
+        horizon=2,
+        u_min=(0, 0.1),
+        u_max=(0, 0.1),
+        workspace=WS,
+        obstacles=[cover],
+    )
+    assert result.status == "infeasible"
+    assert "outside obstacles[0]" in result.message

@@ -412,7 +412,9 @@ def milp(
                     {state[k + 1][2 + j]: 1.0, state[k][2 + j]: -1.0, inputs[k][j]: -dt}, lo=0.0, hi=0.0
                 )
     positions = [(row[0], row[1]) for row in state]
-    _avoid(model, positions, faces, big_m)
+    blocked = _avoid(model, positions, faces, big_m)
+    if blocked is not None:
+        return _result("infeasible", blocked, solver_name, "not solved", started, model, objective)
     encoder = StlEncoder(model, positions, used_regions, big_m=big_m)
     rho = encoder.encode(formula)
     if isinstance(rho, float):
@@ -613,9 +615,11 @@ def _avoid(
     positions: Sequence[tuple[int, int]],
     faces: Sequence[list[tuple[NDArray[np.float64], float]]],
     big_m: float | None,
-) -> None:
-    """Keep every segment (p_k, p_k+1) outside every obstacle: both ends outside one common face."""
-    for obstacle in faces:
+) -> str | None:
+    """Keep every segment (p_k, p_k+1) outside every obstacle: both ends outside one common face.
+
+    Returns why no trajectory can, when the bounds already rule it out, else None."""
+    for index, obstacle in enumerate(faces):
         for k in range(len(positions) - 1):
             ends = (positions[k], positions[k + 1])
             options: list[tuple[NDArray[np.float64], float]] = []
@@ -631,9 +635,9 @@ def _avoid(
             if safe:
                 continue
             if not options:
-                raise InvalidArgumentError(
-                    "obstacles: no trajectory can keep a segment outside an obstacle within the bounds "
-                    f"(steps {k} and {k + 1})"
+                return (
+                    f"no trajectory keeps the segment of steps {k} and {k + 1} outside obstacles[{index}] "
+                    "within the input bounds and the workspace"
                 )
             zs = [model.add_binary() for _ in options]
             model.add_row(dict.fromkeys(zs, 1.0), lo=1.0)
@@ -648,6 +652,7 @@ def _avoid(
                             "give a workspace, input bounds (u_min, u_max) or big_m"
                         )
                     model.add_le(expr, scale=-1.0, extra={z: m}, rhs=m - need)
+    return None
 
 
 def _to_cvxpy(cp: Any, model: LinearModel, cost: Mapping[int, float]) -> tuple[Any, Any, Any]:
