@@ -31,8 +31,6 @@ __all__ = ["LQRResult", "lqr"]
 
 F = NDArray[np.float64]
 
-GainMode = Literal["auto", "stationary", "time_varying"]
-
 
 class LQRResult(Result):
     """Result of :func:`audere.controllers.lqr`: the closed-loop trajectory, the gains, tracking errors.
@@ -157,7 +155,7 @@ def lqr(
     terminal_weight: ArrayLike | None = None,
     u_min: ArrayLike | None = None,
     u_max: ArrayLike | None = None,
-    mode: GainMode = "auto",
+    mode: Literal["auto", "stationary", "time_varying"] = "auto",
     angle_indices: Sequence[int] = (),
     method: IntegrationMethod = "euler",
     time_limit: float = 10.0,
