@@ -15,12 +15,14 @@ def _check(seed: int) -> None:
     report = task.check(solution)
     assert report.success, f"seed {seed}: {report.summary()}"
     # the states the recipe returns are exactly the checker's rollout of its inputs
-    assert solution.inputs is not None and solution.states is not None
+    assert solution.inputs is not None
+    assert solution.states is not None
     model = task.model
     assert model is not None
     rollout = model.rollout(np.asarray(task.x0), solution.inputs, task.dt, method=task.integrator)
     np.testing.assert_allclose(solution.states, rollout, rtol=0, atol=1e-12)
-    assert task.u_min is not None and task.u_max is not None
+    assert task.u_min is not None
+    assert task.u_max is not None
     assert (solution.inputs >= np.asarray(task.u_min)).all()
     assert (solution.inputs <= np.asarray(task.u_max)).all()
 

@@ -25,7 +25,6 @@ F = TypeVar("F", bound=Callable[..., Any])
 
 # private modules holding the built-in recipes (one line per module; keep sorted)
 _MODULES: tuple[str, ...] = (
-    # "_plan_easy",
     "_arm_reach",
     "_pendulum_swingup",
     "_plan_easy",
