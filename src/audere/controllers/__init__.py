@@ -11,7 +11,6 @@ from typing import Any
 
 # public name -> private module that defines it (one line per name; keep sorted by name)
 _EXPORTS: dict[str, str] = {
-    # "name": "_module",
     "LQRResult": "_lqr",
     "MPCResult": "_mpc",
     "PIDResult": "_pid",
