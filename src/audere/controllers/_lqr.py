@@ -24,6 +24,7 @@ from audere._arrays import FloatArray, as_float_array
 from audere._optional import require
 from audere.apis import Result
 from audere.apis._registry import register_api
+from audere.controllers._common import square_weight
 from audere.dynamics import Dynamics, IntegrationMethod, get_dynamics
 from audere.errors import InvalidArgumentError
 
@@ -65,20 +66,7 @@ def _wrap(values: F, indices: Sequence[int]) -> F:
 
 def _weight(value: ArrayLike | None, n: int, *, name: str, default: float, positive: bool) -> F:
     """A weight matrix (n, n) from ``None``, a scalar, a diagonal (n,) or a full matrix (n, n)."""
-    if value is None:
-        return default * np.eye(n)
-    arr = as_float_array(value, name=name)
-    if arr.ndim == 0:
-        mat = float(arr) * np.eye(n)
-    elif arr.shape == (n,):
-        mat = np.diag(arr)
-    elif arr.shape == (n, n):
-        mat = arr
-    else:
-        raise InvalidArgumentError(
-            f"{name} must be a scalar, a diagonal of shape ({n},) or a matrix of shape ({n}, {n}), "
-            f"got shape {arr.shape}"
-        )
+    mat = square_weight(value, n, name=name, default=default)
     if not np.allclose(mat, mat.T, rtol=1e-10, atol=1e-12):
         raise InvalidArgumentError(f"{name} must be symmetric, got {mat.tolist()}")
     eig = np.linalg.eigvalsh(0.5 * (mat + mat.T))

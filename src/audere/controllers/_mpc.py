@@ -26,6 +26,7 @@ from audere._arrays import FloatArray, as_float_array
 from audere._optional import require
 from audere.apis._registry import register_api
 from audere.apis._result import Result, Status
+from audere.controllers._common import square_weight
 from audere.dynamics import Dynamics, IntegrationMethod, get_dynamics
 from audere.errors import InvalidArgumentError
 from audere.world import Circle, Obstacle, Polygon, Rectangle, Square, describe_shape, signed_distance
@@ -121,20 +122,7 @@ def _model(dynamics: Dynamics | str) -> Dynamics:
 
 def _weight(value: ArrayLike | None, name: str, n: int, default: float, labels: tuple[str, ...]) -> F:
     """A symmetric PSD ``(n, n)`` weight from a scalar, a diagonal ``(n,)`` or a matrix ``(n, n)``."""
-    if value is None:
-        return default * np.eye(n)
-    arr = as_float_array(value, name=name)
-    if arr.ndim == 0:
-        w = float(arr) * np.eye(n)
-    elif arr.shape == (n,):
-        w = np.diag(arr)
-    elif arr.shape == (n, n):
-        w = arr
-    else:
-        raise InvalidArgumentError(
-            f"{name} must be a scalar, a diagonal of shape ({n},) or a matrix of shape ({n}, {n}) "
-            f"over {_labels(labels)}, got shape {tuple(arr.shape)}"
-        )
+    w = square_weight(value, n, name=name, default=default, over=f" over {_labels(labels)}")
     if not np.allclose(w, w.T, rtol=1e-9, atol=1e-12):
         raise InvalidArgumentError(f"{name} must be symmetric, got {w.tolist()}")
     w = 0.5 * (w + w.T)
