@@ -32,7 +32,8 @@ def test_solve_dispatches_on_the_task_name() -> None:
 
 
 def test_unknown_scenario_and_unnamed_task_are_clear_errors() -> None:
-    with pytest.raises(InvalidArgumentError, match="no recipe for scenario 'nope'; recipes exist for: arm-reach"):
+    expected = "no recipe for scenario 'nope'; recipes exist for: arm-reach"
+    with pytest.raises(InvalidArgumentError, match=expected):
         get_recipe("nope")
     task = ReachAvoidTask(x0=(1.0, 1.0), goal=(9.0, 9.0))
     with pytest.raises(InvalidArgumentError, match=r"task has no scenario name \(task.name is empty\)"):
