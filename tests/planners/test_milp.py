@@ -326,11 +326,13 @@ def test_double_integrator() -> None:
 
 def test_scipy_solver_agrees_with_highs() -> None:
     spec = "G[0,2] !in(B) & F[2,2] (x >= 7 | in(C))"
-    kwargs: dict[str, object] = {"horizon": 2, "u_max": 2.5, "workspace": WS, "margin": -100.0}
+    # Optimum 0.5: x1 >= 4 + r to reach x >= 7 + r at step 2 puts step 1 beside B, so it passes
+    # below B (y1 <= 2 - r) from y0 = 4.5 with |u| <= 3: r <= 0.5. (With u_max = 2.5 it would be 0.)
+    kwargs: dict[str, object] = {"horizon": 2, "u_max": 3.0, "workspace": WS, "margin": -100.0}
     a = milp(spec, REGIONS, (2.5, 4.5), **kwargs)  # type: ignore[arg-type]
     b = milp(spec, REGIONS, (2.5, 4.5), solver="scipy", **kwargs)  # type: ignore[arg-type]
     assert a.status == "solved"
-    assert _finite(a.robustness) > 0
+    assert _finite(a.robustness) == pytest.approx(0.5, abs=1e-6)
     assert b.solver == "SCIPY"
     assert b.status == "solved"
     assert _finite(a.robustness) == pytest.approx(_finite(b.robustness), abs=1e-6)
