@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import doctest
 import math
-import re
 import time
 from pathlib import Path
 
@@ -16,6 +15,7 @@ from hypothesis import strategies as st
 from pydantic import ValidationError
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import dijkstra
+from tests.doc_examples import expected_output, python_blocks
 
 from audere import scenarios
 from audere.errors import InvalidArgumentError
@@ -544,26 +544,14 @@ def test_occupancy_grid_fields_are_validated(call: object, match: str) -> None:
 DOC = Path(__file__).resolve().parents[2] / "docs" / "apis" / "astar.md"
 
 
-def _expected_output(source: str) -> list[str]:
-    """The comment lines that directly follow a print() call (or each other): the shown output."""
-    out: list[str] = []
-    showing = False
-    for line in source.splitlines():
-        if line.startswith("# ") and showing:
-            out.append(line[2:])
-        else:
-            showing = "print(" in line
-    return out
-
-
 def test_docs_page_examples_print_what_they_say(capsys: pytest.CaptureFixture[str]) -> None:
-    blocks = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S)
+    blocks = python_blocks(DOC)
     assert len(blocks) >= 3
     for i, source in enumerate(blocks):
         namespace: dict[str, object] = {"__name__": "docs_astar"}
         exec(compile(source, f"{DOC}#block{i}", "exec", dont_inherit=True), namespace)
         printed = capsys.readouterr().out.splitlines()
-        assert printed == _expected_output(source), f"block {i}"
+        assert printed == expected_output(source), f"block {i}"
 
 
 def test_docstring_examples() -> None:

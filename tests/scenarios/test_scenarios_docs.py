@@ -2,28 +2,16 @@
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import pytest
+from tests.doc_examples import expected_output, python_blocks
 
 from audere.scenarios import ScenarioInfo, list_scenarios
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "scenarios.md"
 TEXT = DOC.read_text(encoding="utf-8")
-BLOCKS = re.findall(r"```python\n(.*?)```", TEXT, re.S)
-
-
-def _expected_output(source: str) -> list[str]:
-    """The comment lines that directly follow a print() call (or each other): the shown output."""
-    out: list[str] = []
-    showing = False
-    for line in source.splitlines():
-        if line.startswith("# ") and showing:
-            out.append(line[2:])
-        else:
-            showing = "print(" in line
-    return out
+BLOCKS = python_blocks(DOC)
 
 
 def test_the_page_has_examples() -> None:
@@ -35,7 +23,7 @@ def test_doc_examples_run_and_print_what_they_say(capsys: pytest.CaptureFixture[
     for i, source in enumerate(BLOCKS):  # later blocks use names from earlier ones, as a reader would
         exec(compile(source, f"{DOC}#block{i}", "exec", dont_inherit=True), namespace)
         printed = capsys.readouterr().out.splitlines()
-        assert printed == _expected_output(source), f"block {i}"
+        assert printed == expected_output(source), f"block {i}"
 
 
 @pytest.mark.parametrize("info", list_scenarios(), ids=lambda s: s.name)
