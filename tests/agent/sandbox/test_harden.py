@@ -532,6 +532,9 @@ def test_bwrap_argv_rejects_bad_arguments(tmp_path: Path, monkeypatch: pytest.Mo
         _bwrap.bwrap_argv(bind_rw=[], ro_paths="/usr")
     with pytest.raises(InvalidArgumentError, match="tmpfs_bytes"):
         _bwrap.bwrap_argv(bind_rw=[], ro_paths=[], tmpfs_bytes=0)
+    for scratch in ("/var/tmp/scratch", "/tmp", "tmp/scratch", "/tmpx/scratch"):
+        with pytest.raises(InvalidArgumentError, match="scratch: expected an absolute path beneath /tmp"):
+            _bwrap.bwrap_argv(bind_rw=[], ro_paths=[], scratch=scratch)
     monkeypatch.setattr(_bwrap, "bwrap_path", lambda: None)
     with pytest.raises(MissingDependencyError, match="apt-get install bubblewrap"):
         _bwrap.bwrap_argv(bind_rw=[], ro_paths=[])
@@ -569,6 +572,14 @@ def test_bwrap_argv_layout(tmp_path: Path) -> None:
         assert position("--ro-bind", base, base) > last_tmpfs
     assert position("--ro-bind", str(nested_ro), str(nested_ro)) > rw_at  # nested binds after their parent
     assert str(tmp_path / "missing") not in argv
+
+
+def test_bwrap_argv_mounts_a_scratch_tmpfs_after_tmp() -> None:
+    argv = _bwrap.bwrap_argv(bind_rw=[], ro_paths=[], tmpfs_bytes=1 << 20, scratch="/tmp/scratch")
+    triples = [tuple(argv[i : i + 4]) for i in range(len(argv) - 3)]
+    tmp_at = triples.index(("--size", str(1 << 20), "--tmpfs", "/tmp"))
+    scratch_at = triples.index(("--size", str(1 << 20), "--tmpfs", "/tmp/scratch"))
+    assert scratch_at > tmp_at
 
 
 @needs_bwrap

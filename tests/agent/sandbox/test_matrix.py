@@ -637,8 +637,9 @@ def test_t19_disk_fill(case: Case) -> None:
     outcome = case.run(T19, timeout_s=20.0)
     assert outcome.status == "ok", outcome.brief()
     report = outcome.report()
-    if report["error"] == "ENOSPC":  # scratch on a sized tmpfs
-        assert report["written"] < 300
+    if "bwrap" in outcome.applied:  # scratch on bubblewrap's sized tmpfs (256 MiB)
+        assert report["error"] == "ENOSPC", report
+        assert 200 <= report["written"] < 300, report
     else:
         # documented: nothing bounds the total written to the scratch dir (the files are removed after)
         assert report == {"written": 300, "error": None, "cwd": report["cwd"]}
@@ -762,11 +763,6 @@ def test_t23_write_outside(case: Case) -> None:
         assert visible == paths, f"documented leak of the core not reproduced: {outcome.report()}"
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="BUG reported to the lead: default_read_paths() allows every sys.path entry, including the "
-    "host script's own directory (sys.path[0]); Landlock lets the code read it and bwrap binds it back",
-)
 @pytest.mark.parametrize("config", ["kernel", "bwrap", "hardened"])
 def test_t22_secret_next_to_the_host_script(
     make_host: Callable[..., Host], tmp_path: Path, config: str

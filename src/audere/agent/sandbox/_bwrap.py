@@ -68,7 +68,13 @@ def _hidden_roots() -> list[str]:
     ]
 
 
-def bwrap_argv(*, bind_rw: Sequence[str], ro_paths: Sequence[str], tmpfs_bytes: int = 256 << 20) -> list[str]:
+def bwrap_argv(
+    *,
+    bind_rw: Sequence[str],
+    ro_paths: Sequence[str],
+    tmpfs_bytes: int = 256 << 20,
+    scratch: str | None = None,
+) -> list[str]:
     """The ``bwrap`` command line, up to and including ``--``; the caller appends the command.
 
     Layout: ``bwrap --unshare-all --die-with-parent --new-session --cap-drop ALL --ro-bind / /``,
@@ -94,6 +100,10 @@ def bwrap_argv(*, bind_rw: Sequence[str], ro_paths: Sequence[str], tmpfs_bytes: 
         venv and ``sys.path`` (e.g. :func:`audere.agent.sandbox._harden.default_read_paths`).
     tmpfs_bytes
         Size of each tmpfs; writes beyond it fail with ``ENOSPC``.
+    scratch
+        An absolute path beneath ``/tmp`` to mount one more tmpfs of ``tmpfs_bytes`` on, after the
+        hidden directories: a separate space for the code's scratch files, so that filling it
+        leaves room in ``/tmp`` for the run's output files.
 
     Returns
     -------
@@ -109,6 +119,10 @@ def bwrap_argv(*, bind_rw: Sequence[str], ro_paths: Sequence[str], tmpfs_bytes: 
     """
     if isinstance(tmpfs_bytes, bool) or not isinstance(tmpfs_bytes, int) or tmpfs_bytes <= 0:
         raise InvalidArgumentError(f"tmpfs_bytes: expected a positive number of bytes, got {tmpfs_bytes!r}")
+    if scratch is not None and not (
+        os.path.isabs(scratch) and _beneath(scratch, "/tmp") and scratch != "/tmp"
+    ):
+        raise InvalidArgumentError(f"scratch: expected an absolute path beneath /tmp, got {scratch!r}")
     rw = _check_paths("bind_rw", bind_rw)
     ro = _check_paths("ro_paths", ro_paths)
     for path in rw:
@@ -149,6 +163,8 @@ def bwrap_argv(*, bind_rw: Sequence[str], ro_paths: Sequence[str], tmpfs_bytes: 
     ]
     for root in hidden:
         argv += ["--size", str(tmpfs_bytes), "--tmpfs", root]
+    if scratch is not None:
+        argv += ["--size", str(tmpfs_bytes), "--tmpfs", scratch]
     argv += ["--dev", "/dev", "--proc", "/proc"]
     for dest in sorted(binds, key=lambda d: (d.count("/"), d)):
         source, writable = binds[dest]

@@ -46,7 +46,7 @@ class ExecutionStatus(StrEnum):
     EXITED = "exited"
     """The process ended itself with an exit code (``os._exit``)."""
     LIMIT = "limit"
-    """A resource limit was hit: CPU time, memory, file size or open files."""
+    """A resource limit was hit: CPU time, memory, file size, open files or disk space."""
     BAD_RESULT = "bad_result"
     """``result`` is not numeric, is too big, or the result frame is malformed."""
     SANDBOX_ERROR = "sandbox_error"
@@ -216,7 +216,8 @@ class Execution:
     exit_code
         Exit code for ``exited``.
     limit
-        Which limit was hit for ``limit``: ``"cpu"``, ``"memory"``, ``"file_size"`` or ``"open_files"``.
+        Which limit was hit for ``limit``: ``"cpu"``, ``"memory"``, ``"file_size"``, ``"open_files"``
+        or ``"disk"`` (the scratch space is full: bubblewrap's sized tmpfs, or the host's disk).
     message
         One line for people and models: what happened, and where.
     wall_s, cpu_s

@@ -33,6 +33,7 @@ import ctypes
 import errno
 import functools
 import importlib
+import json
 import logging
 import os
 import socket
@@ -49,7 +50,9 @@ __all__ = [
     "apply_landlock",
     "apply_netns",
     "apply_seccomp",
+    "broad_dirs",
     "default_read_paths",
+    "isolated_sys_path",
     "landlock_abi",
     "netns_status",
     "seccomp_status",
@@ -394,20 +397,57 @@ def _expand_excluding(root: str, excluded: Iterable[str]) -> list[str]:
     return out
 
 
-# Directories never allowed as a whole, even when on sys.path.
+# Directories never allowed as a whole.
 _BROAD_DIRS = ("/tmp", "/var/tmp", "/dev/shm", "/root", "/home", "/run", "/proc", "/sys", "/dev")
 
 
-def default_read_paths() -> list[str]:
-    """Paths a sandboxed Python process needs to read: system dirs, the interpreter and ``sys.path``.
+@functools.cache
+def broad_dirs() -> frozenset[str]:
+    """Directories never allowed to the sandbox as a whole: ``/``, ``/tmp``, ``/root``, ``$HOME``..."""
+    return frozenset(os.path.realpath(p) for p in ("/", *_BROAD_DIRS, os.path.expanduser("~")))
+
+
+@functools.cache
+def isolated_sys_path() -> tuple[str, ...]:
+    """``sys.path`` of this interpreter started with ``-I``: where the sandbox supervisor imports from.
+
+    That is the standard library, site-packages and what its ``.pth`` files add (editable installs),
+    but not the directory of the host's script nor the current directory, which the host's own
+    ``sys.path`` starts with and which may hold files such as ``.env``. Asked of a subprocess once
+    per process; if that fails, the host's ``sys.path`` without its first entry (unless the host
+    itself runs with ``-P``/``-I``) stands in.
+
+    Returns
+    -------
+    tuple[str, ...]
+        Non-empty entries, in ``sys.path`` order.
+    """
+    try:
+        probe = "import json, sys; print(json.dumps(sys.path))"
+        code, out, _ = _run_probe([sys.executable, "-I", "-c", probe])
+        entries = json.loads(out) if code == 0 else None
+    except (OSError, subprocess.SubprocessError, ValueError):
+        entries = None
+    if not isinstance(entries, list) or not all(isinstance(e, str) for e in entries):
+        entries = sys.path if sys.flags.safe_path else sys.path[1:]
+    return tuple(entry for entry in entries if entry)
+
+
+def default_read_paths(extra: Iterable[str] = ()) -> list[str]:
+    """Paths a sandboxed Python process needs to read: system dirs, the interpreter and its imports.
 
     ``/usr /lib /lib64 /bin /sbin``, ``/etc`` minus its secrets (``shadow``, ``gshadow``,
     ``sudoers``, ``ssh``, ``ssl/private``...), ``/dev/null /dev/zero /dev/random /dev/urandom``,
     ``/sys/devices/system/cpu`` (CPU counts for BLAS), ``sys.prefix``, ``sys.base_prefix``,
-    ``sys.exec_prefix`` and every ``sys.path`` entry (editable installs live outside
-    site-packages). Resolved through symlinks, deduplicated, only existing paths, never ``/proc``,
-    and never a broad directory as a whole (``/``, ``/tmp``, ``/root``, ``/home``, ``$HOME``...), which a
-    script started from there puts on ``sys.path``.
+    ``sys.exec_prefix``, every entry of :func:`isolated_sys_path` (editable installs live outside
+    site-packages; the host script's directory is not among them), then ``extra``. Resolved through
+    symlinks, deduplicated, only existing paths, never ``/proc``, and never a broad directory as a
+    whole (``/``, ``/tmp``, ``/root``, ``/home``, ``$HOME``...).
+
+    Parameters
+    ----------
+    extra
+        More files or directories to allow (e.g. the directory of a user's own API modules).
 
     Returns
     -------
@@ -432,11 +472,10 @@ def default_read_paths() -> list[str]:
         sys.base_prefix,
         sys.exec_prefix,
         sys.base_exec_prefix,
-        *(entry for entry in sys.path if entry),
+        *isolated_sys_path(),
+        *extra,
     ]
-    # A script run from /tmp or a home directory puts that directory on sys.path: never allow it whole.
-    too_broad = {os.path.realpath(p) for p in ("/", *_BROAD_DIRS, os.path.expanduser("~"))}
-    seen: set[str] = set(too_broad)
+    seen: set[str] = set(broad_dirs())
     out: list[str] = []
     for candidate in candidates:
         path = os.path.realpath(candidate)

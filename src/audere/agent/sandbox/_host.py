@@ -79,9 +79,12 @@ DEFAULT_HIDDEN: tuple[str, ...] = ("audere.scenarios", "audere.recipes")
 """Modules the code cannot import: the scenario generator and the expert's recipes."""
 
 _STARTUP_GRACE_S = 120.0
+_BWRAP_RUNS = "/tmp/audere-runs"  # inside bubblewrap: output files, on the tmpfs over /tmp
+_BWRAP_SCRATCH = "/tmp/audere-scratch"  # inside bubblewrap: the code's scratch dirs, on a tmpfs of their own
+_BWRAP_TMPFS_BYTES = 256 << 20
 _REPLY_GRACE_S = 5.0
 _SIGNAL_NAMES = {s.value: s.name for s in signal.Signals}
-_BAD_ERRNO_LIMITS = {"EFBIG": "file_size", "EMFILE": "open_files"}
+_BAD_ERRNO_LIMITS = {"EFBIG": "file_size", "EMFILE": "open_files", "ENOSPC": "disk"}
 
 
 @runtime_checkable
@@ -152,10 +155,28 @@ def _minimal_env() -> dict[str, str]:
     return env
 
 
-def _read_paths() -> list[str]:
+def _read_paths(extra: Sequence[str]) -> list[str]:
     from audere.agent.sandbox import _harden
 
-    return list(_harden.default_read_paths())
+    return list(_harden.default_read_paths(extra))
+
+
+def _check_paths(paths: Sequence[str]) -> tuple[str, ...]:
+    from audere.agent.sandbox import _harden
+
+    if isinstance(paths, str):
+        raise InvalidArgumentError(f"paths: expected a sequence of paths, got the string {paths!r}")
+    out: list[str] = []
+    for entry in paths:
+        if not isinstance(entry, str | os.PathLike) or not os.path.exists(entry):
+            raise InvalidArgumentError(f"paths: expected existing files or directories, got {entry!r}")
+        path = os.path.realpath(entry)
+        if path in _harden.broad_dirs():
+            raise InvalidArgumentError(
+                f"paths: {path!r} is too broad to expose to the code; name the directory of your modules"
+            )
+        out.append(path)
+    return tuple(dict.fromkeys(out))
 
 
 def _pid_alive(pid: int) -> bool:
@@ -205,6 +226,11 @@ class SandboxExecutor:
         modules of your own registered APIs here so that the code can call them.
     hidden
         Modules the code cannot import.
+    paths
+        Directories (or files) put first on the supervisor's ``sys.path`` and allowed for reading:
+        where your own API modules live when they are not installed. The code can read everything
+        beneath them. The supervisor runs ``python -I``, so without this it sees only the installed
+        packages, not the directory of your script or notebook.
     base_dir
         Parent directory of the sandbox's run directories (default: the system temp dir).
 
@@ -222,6 +248,7 @@ class SandboxExecutor:
         layers: Sequence[str] | None = None,
         preload: Sequence[str] = DEFAULT_PRELOAD,
         hidden: Sequence[str] = DEFAULT_HIDDEN,
+        paths: Sequence[str] = (),
         base_dir: str | None = None,
     ) -> None:
         if isinstance(layers, str):
@@ -242,6 +269,7 @@ class SandboxExecutor:
         self._requested = None if layers is None else tuple(dict.fromkeys(layers))
         self._preload = tuple(preload)
         self._hidden = tuple(hidden)
+        self._paths = _check_paths(paths)
         self._parent_dir = base_dir or tempfile.gettempdir()
         self._lock = threading.RLock()
         self._proc: subprocess.Popen[bytes] | None = None
@@ -316,9 +344,7 @@ class SandboxExecutor:
         self._base = tempfile.mkdtemp(prefix="audere-sandbox-", dir=self._parent_dir)
         with open(os.path.join(self._base, "host.pid"), "w", encoding="ascii") as handle:
             handle.write(str(os.getpid()))
-        runs = os.path.join(self._base, "runs")
-        os.mkdir(runs, 0o700)
-        read_paths = _read_paths() if {"landlock", "bwrap"} & set(layers) else []
+        read_paths = _read_paths(self._paths) if {"landlock", "bwrap"} & set(layers) else []
         command = [
             sys.executable,
             "-I",
@@ -329,7 +355,16 @@ class SandboxExecutor:
         if "bwrap" in layers:
             from audere.agent.sandbox import _bwrap
 
-            command = [*_bwrap.bwrap_argv(bind_rw=[self._base], ro_paths=read_paths), *command]
+            # Scratch lives on bubblewrap's own sized tmpfs over /tmp (disk use bounded), and nothing
+            # of the host is bound writable: the supervisor reads the run's files itself.
+            runs, scratch, cwd = _BWRAP_RUNS, _BWRAP_SCRATCH, "/"
+            argv = _bwrap.bwrap_argv(
+                bind_rw=(), ro_paths=read_paths, tmpfs_bytes=_BWRAP_TMPFS_BYTES, scratch=scratch
+            )
+            command = [*argv, *command]
+        else:
+            runs, scratch, cwd = os.path.join(self._base, "runs"), None, self._base
+            os.mkdir(runs, 0o700)
         log_path = os.path.join(self._base, "supervisor.log")
         with open(log_path, "wb") as log_file:
             self._proc = subprocess.Popen(
@@ -338,7 +373,7 @@ class SandboxExecutor:
                 stdout=subprocess.PIPE,
                 stderr=log_file,
                 env=_minimal_env(),
-                cwd=self._base,
+                cwd=cwd,
                 start_new_session=True,
                 close_fds=True,
             )
@@ -346,9 +381,11 @@ class SandboxExecutor:
         config = {
             "preload": list(self._preload),
             "hidden": list(self._hidden),
+            "paths": list(self._paths),
             "layers": list(layers),
             "read_paths": read_paths,
             "base_dir": runs,
+            "scratch_dir": scratch,
             "landlock_abi": _landlock_abi() if "landlock" in layers else 0,
         }
         try:

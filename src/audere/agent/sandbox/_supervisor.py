@@ -35,7 +35,6 @@ import tempfile
 import time
 import traceback
 from collections.abc import Callable, Mapping, Sequence
-from types import ModuleType
 from typing import Any
 
 from audere.agent.sandbox._protocol import (
@@ -217,8 +216,10 @@ def _record_api_calls() -> list[str]:
     registry = importlib.import_module("audere.apis._registry")
     wrapped: dict[int, Callable[..., Any]] = {}
     names: list[str] = []
+    homes: set[str] = set()  # the modules that define registered APIs (a user's own, say)
     for info in apis.list_apis():
         original = info.function
+        homes.add(getattr(original, "__module__", None) or "")
 
         def make(name: str, function: Callable[..., Any]) -> Callable[..., Any]:
             @functools.wraps(function)
@@ -234,10 +235,11 @@ def _record_api_calls() -> list[str]:
         names.append(info.name)
         with contextlib.suppress(Exception):
             registry._REGISTRY[info.name] = _replace_function(info, wrapper)
-    for module in list(sys.modules.values()):
-        if not isinstance(module, ModuleType) or not (module.__name__ or "").startswith("audere"):
+    for module in list(sys.modules.values()):  # (sys.modules may hold objects that are not modules)
+        name = getattr(module, "__name__", None)
+        if not isinstance(name, str) or not (name == "audere" or name.startswith("audere.") or name in homes):
             continue
-        for attr, value in list(vars(module).items()):
+        for attr, value in list(getattr(module, "__dict__", {}).items()):
             if callable(value) and id(value) in wrapped:
                 setattr(module, attr, wrapped[id(value)])
     return names
@@ -513,8 +515,14 @@ def _serve_one(
     global _current_child
     limits = request["limits"]
     run_dir = tempfile.mkdtemp(prefix="run-", dir=config["base_dir"])
-    scratch = os.path.join(run_dir, "scratch")
-    os.mkdir(scratch, 0o700)
+    # the scratch dir lives on its own mount under bubblewrap (a sized tmpfs): when the code fills
+    # it, the run's stdout and stderr files still have room
+    scratch_parent = config.get("scratch_dir")
+    if scratch_parent:
+        scratch = tempfile.mkdtemp(prefix="scratch-", dir=scratch_parent)
+    else:
+        scratch = os.path.join(run_dir, "scratch")
+        os.mkdir(scratch, 0o700)
     read_fd, write_fd = os.pipe()
     paths = {
         "scratch": scratch,
@@ -589,6 +597,7 @@ def _serve_one(
     stdout, stdout_size = _read_capped(paths["stdout"], cap_out)
     stderr, stderr_size = _read_capped(paths["stderr"], cap_out)
     shutil.rmtree(run_dir, ignore_errors=True)
+    shutil.rmtree(scratch, ignore_errors=True)
     header = {
         "wait_status": status,
         "timed_out": timed_out,
@@ -645,10 +654,12 @@ def main() -> None:
     if raw is None:
         os._exit(0)
     config, _ = decode_frame(raw, max_bytes=_MAX_REQUEST)
+    sys.path[:0] = [str(path) for path in config.get("paths", ())]
     loaded, missing = _preload(config.get("preload", ()))
     apis = _record_api_calls()
     _hide(config.get("hidden", ()))
     _block_checker()
+    os.makedirs(config["base_dir"], mode=0o700, exist_ok=True)
     config["address_space"] = _address_space()
     ready = {"ready": True, "pid": os.getpid(), "preloaded": loaded, "missing": missing, "apis": apis}
     ready["address_space"] = config["address_space"]
