@@ -320,3 +320,21 @@ def test_task_forms(tmp_path: Path) -> None:
         assert Agent(given).task == task  # type: ignore[arg-type]
     assert Agent("plan-easy", seed=5).task == task
     assert Agent("go from (1, 1) to (9, 9)").task is None
+
+
+def test_hostile_and_crashing_code_becomes_a_round(scripted: list[ScriptedModel]) -> None:
+    kill_parent = (
+        "import os, signal\n\ndef solve(task):\n    os.kill(os.getppid(), signal.SIGKILL)\n    return None\n"
+    )
+    segfault = "import ctypes\n\ndef solve(task):\n    return ctypes.string_at(0)\n"
+    model = script(
+        scripted, text("APIs: rrt"), code_reply(kill_parent), code_reply(segfault), code_reply(RRT_CODE)
+    )
+    result = Agent("plan-easy", seed=15, model=model.model, tool_calls=False).solve()
+    assert result.success, str(result)
+    first, second, _ = result.categories
+    # Landlock refuses the signal (a runtime error); without it the supervisor dies (a sandbox error)
+    assert first in (ErrorCategory.RUNTIME, ErrorCategory.SANDBOX_ERROR, ErrorCategory.TASK_FAILURE)
+    assert second is ErrorCategory.RUNTIME
+    assert "SIGSEGV" in result.rounds[1].feedback
+    assert 'File "<agent_code>", line 4' in result.rounds[1].feedback

@@ -202,12 +202,23 @@ def _tail(text: str, limit: int = _OUTPUT_TAIL_CHARS) -> str:
     return text if len(text) <= limit else "[...]\n" + text[-limit:]
 
 
+def _stderr_for_model(text: str) -> str:
+    """stderr without the noise of a native crash dump: library frames and the extension list."""
+    kept = [
+        line
+        for line in text.splitlines()
+        if not line.startswith("Extension modules:") and not line.lstrip().startswith('File "/')
+    ]
+    return "\n".join(kept)
+
+
 def _with_output(message: str, execution: Execution) -> str:
     parts = [message]
     if execution.stdout.strip():
         parts.append(f"Last lines of stdout:\n{_tail(execution.stdout)}")
-    if execution.stderr.strip():
-        parts.append(f"Last lines of stderr:\n{_tail(execution.stderr)}")
+    stderr = _stderr_for_model(execution.stderr)
+    if stderr.strip():
+        parts.append(f"Last lines of stderr:\n{_tail(stderr)}")
     return "\n\n".join(parts)[:_FEEDBACK_CHARS]
 
 
