@@ -5,13 +5,13 @@ from __future__ import annotations
 
 import itertools
 import math
-import re
 from pathlib import Path
 
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from tests.doc_examples import expected_output, python_blocks
 
 from audere import scenarios
 from audere.apis._registry import _REGISTRY
@@ -458,19 +458,7 @@ def test_constant_folding_of_until_and_windows() -> None:
 # --- the examples of docs/apis/milp.md ------------------------------------------------------------------
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "apis" / "milp.md"
-DOC_BLOCKS = re.findall(r"```python\n(.*?)```", DOC.read_text(encoding="utf-8"), re.S)
-
-
-def _shown(source: str) -> list[str]:
-    """The comment lines right after a print() call: the output the page shows."""
-    out: list[str] = []
-    showing = False
-    for line in source.splitlines():
-        if line.startswith("# ") and showing:
-            out.append(line[2:])
-        else:
-            showing = "print(" in line
-    return out
+DOC_BLOCKS = python_blocks(DOC)
 
 
 def test_the_page_has_examples() -> None:
@@ -480,7 +468,7 @@ def test_the_page_has_examples() -> None:
 @pytest.mark.parametrize("source", DOC_BLOCKS, ids=[f"block{i}" for i in range(len(DOC_BLOCKS))])
 def test_doc_example_prints_what_it_says(source: str, capsys: pytest.CaptureFixture[str]) -> None:
     exec(compile(source, str(DOC), "exec", dont_inherit=True), {"__name__": "docs_milp"})
-    assert capsys.readouterr().out.splitlines() == _shown(source)
+    assert capsys.readouterr().out.splitlines() == expected_output(source)
 
 
 def test_time_limit_with_scipy() -> None:

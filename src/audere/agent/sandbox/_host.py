@@ -141,18 +141,10 @@ def probe_layers() -> LayerReport:
 
 
 def _minimal_env() -> dict[str, str]:
-    env = {
-        "PATH": "/usr/local/bin:/usr/bin:/bin",
-        "LANG": "C.UTF-8",
-        "HOME": "/nonexistent",
-        "OPENBLAS_NUM_THREADS": "1",
-        "OMP_NUM_THREADS": "1",
-        "MKL_NUM_THREADS": "1",
-        "PYTHONDONTWRITEBYTECODE": "1",
-        "LITELLM_LOCAL_MODEL_COST_MAP": "True",
-        "MPLBACKEND": "Agg",
-    }
-    return env
+    from audere.agent.sandbox._supervisor import SANDBOX_ENV
+
+    # read at import time by litellm and matplotlib, should the code import them
+    return {**SANDBOX_ENV, "LITELLM_LOCAL_MODEL_COST_MAP": "True", "MPLBACKEND": "Agg"}
 
 
 def _read_paths(extra: Sequence[str]) -> list[str]:

@@ -52,7 +52,7 @@ _MAX_REQUEST = 1 << 30
 _CHILD_FAILED = 70  # the child's own set-up failed before the code ran
 
 _CALLS: list[str] = []  # registered APIs called by the code (filled in the child only)
-_SANDBOX_ENV = {
+SANDBOX_ENV = {  # the environment of the supervisor and of every run: nothing from the host
     "PATH": "/usr/local/bin:/usr/bin:/bin",
     "LANG": "C.UTF-8",
     "HOME": "/nonexistent",
@@ -360,7 +360,7 @@ def _child(
         faulthandler.enable(file=sys.stderr, all_threads=True)
         os.chdir(paths["scratch"])
         os.environ.clear()
-        os.environ.update(_SANDBOX_ENV)
+        os.environ.update(SANDBOX_ENV)
         os.environ["TMPDIR"] = paths["scratch"]
         tempfile.tempdir = paths["scratch"]
         signal.signal(signal.SIGINT, signal.default_int_handler)
