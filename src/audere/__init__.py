@@ -14,7 +14,9 @@ from typing import TYPE_CHECKING
 __version__ = "0.1.0.dev0"
 
 _SUBPACKAGES = (
+    "agent",
     "apis",
+    "bench",
     "controllers",
     "dynamics",
     "errors",
@@ -29,7 +31,9 @@ _SUBPACKAGES = (
 
 __all__ = [
     "__version__",
+    "agent",
     "apis",
+    "bench",
     "controllers",
     "dynamics",
     "errors",
@@ -44,7 +48,9 @@ __all__ = [
 
 if TYPE_CHECKING:  # pragma: no cover
     from audere import (
+        agent,
         apis,
+        bench,
         controllers,
         dynamics,
         errors,

@@ -16,7 +16,7 @@ from audere.agent._result import SolveResult, SolveStatus
 from audere.agent.prompts import PROMPT_VERSION
 from audere.errors import InvalidArgumentError
 
-__all__ = ["DEFAULT_MODEL", "Agent", "Method"]
+__all__ = ["DEFAULT_MODEL", "Agent", "Method", "hidden_modules"]
 
 Method = Literal["use-api", "code", "predict"]
 Provision = Literal["on-demand", "all"]
@@ -52,6 +52,13 @@ def _close_executors() -> None:
         for executor in _executors.values():
             executor.close()
         _executors.clear()
+
+
+def hidden_modules(method: str) -> tuple[str, ...]:
+    """The modules the code of ``method`` (``"use_api"``, ``"code"``...) cannot import in the sandbox."""
+    from audere.agent.sandbox import DEFAULT_HIDDEN
+
+    return tuple(DEFAULT_HIDDEN) + (_CODE_HIDDEN if method.replace("-", "_") == "code" else ())
 
 
 def _resolve_task(task: object, seed: int | None) -> tuple[Any, str | None]:
@@ -158,6 +165,9 @@ class Agent:
     executor
         The sandbox to run code in (any :class:`audere.agent.sandbox.Executor`); default: a warm
         :class:`~audere.agent.sandbox.SandboxExecutor` shared by the agents of this process.
+    cache
+        A response cache shared between runs (e.g. :class:`audere.bench.ResponseCache`): an identical
+        request is answered from it and never sent (paid for) twice.
     on_event
         Called with an :class:`audere.agent.Event` after every model call, every round, and once the
         task is known (for progress displays).
@@ -191,6 +201,7 @@ class Agent:
         parse_attempts: int = 3,
         max_apis: int = 3,
         executor: Any = None,
+        cache: Any = None,
         on_event: Callable[[_loop.Event], None] | None = None,
     ) -> None:
         if method not in _METHODS:
@@ -227,6 +238,7 @@ class Agent:
             max_retries=max_retries,
             record=record,
             cassette=cassette,
+            cache=cache,
         )
         self.temperature = float(temperature)
         self._task, self.task_text = _resolve_task(task, seed)
@@ -316,10 +328,7 @@ class Agent:
     def _executor_for(self, method: str) -> Any:
         if self._executor is not None:
             return self._executor
-        from audere.agent.sandbox import DEFAULT_HIDDEN
-
-        hidden = tuple(DEFAULT_HIDDEN) + (_CODE_HIDDEN if method == "code" else ())
-        return _shared_executor(hidden)
+        return _shared_executor(hidden_modules(method))
 
     def _steps(self) -> Generator[Any, Any, SolveResult]:
         started = time.monotonic()

@@ -22,7 +22,7 @@ import time
 from collections.abc import Awaitable, Callable, Mapping
 from dataclasses import dataclass
 from types import ModuleType
-from typing import Any, Final, Literal, cast, get_args
+from typing import Any, Final, Literal, Protocol, cast, get_args
 
 from audere.errors import AudereError, InvalidArgumentError
 
@@ -396,6 +396,18 @@ def _check_path(name: str, value: object) -> str | None:
     return path
 
 
+class ResponseCacheLike(Protocol):
+    """What :class:`ModelClient` needs of a response cache."""
+
+    def get(self, key: str) -> Reply | None:
+        """The reply stored under ``key``, or None."""
+        ...
+
+    def put(self, key: str, model: str, request: dict[str, Any], reply: Reply) -> None:
+        """Store ``reply`` under ``key``."""
+        ...
+
+
 class ModelClient:
     """Send chat requests to one model through LiteLLM, with retries, metrics, record and replay.
 
@@ -422,6 +434,10 @@ class ModelClient:
         A cassette file: every successful request and reply is appended to it (created if missing).
     cassette
         A cassette file to answer from; only with ``model="audere/replay"``, which needs one.
+    cache
+        A response cache (any object with ``get(key) -> Reply | None`` and
+        ``put(key, model, request, reply)``, such as :class:`audere.bench.ResponseCache`): a request
+        whose key it holds is answered from it, never sent again; every new reply is put in it.
 
     Attributes
     ----------
@@ -459,6 +475,7 @@ class ModelClient:
         backoff_s: float = 1.0,
         record: str | os.PathLike[str] | None = None,
         cassette: str | os.PathLike[str] | None = None,
+        cache: ResponseCacheLike | None = None,
     ) -> None:
         if not isinstance(model, str) or not model.strip():
             raise InvalidArgumentError(f"model: expected a non-empty model string, got {model!r}")
@@ -493,6 +510,13 @@ class ModelClient:
                 f"record: expected None with {model!r} (a replay would copy the cassette), "
                 f"got {self._record!r}"
             )
+        if cache is not None and not (
+            callable(getattr(cache, "get", None)) and callable(getattr(cache, "put", None))
+        ):
+            raise InvalidArgumentError(
+                f"cache: expected an object with get() and put(), got {type(cache).__name__}"
+            )
+        self._cache = cache
         self._model = model
         self._seed = seed
         self._max_retries = max_retries
@@ -601,6 +625,9 @@ class ModelClient:
         """
         litellm = _litellm()
         kwargs, recording = self._request(messages, tools, tool_choice)
+        cached = self._cached(recording)
+        if cached is not None:
+            return cached
         start = time.perf_counter()
         attempt = 0
         while True:
@@ -645,6 +672,9 @@ class ModelClient:
         """
         litellm = _litellm()
         kwargs, recording = self._request(messages, tools, tool_choice)
+        cached = self._cached(recording)
+        if cached is not None:
+            return cached
         start = time.perf_counter()
         attempt = 0
         while True:
@@ -711,7 +741,7 @@ class ModelClient:
             kwargs["tools"] = tools
         if tool_choice is not None:
             kwargs["tool_choice"] = tool_choice
-        if self._model == REPLAY_MODEL or self._record is not None:
+        if self._model == REPLAY_MODEL or self._record is not None or self._cache is not None:
             from audere.agent._cassette import request_key
 
             try:
@@ -801,4 +831,17 @@ class ModelClient:
 
             key, request = recording
             Cassette.append(self._record, key, self._model, request, reply)
+        if self._cache is not None and recording is not None:
+            self._cache.put(recording[0], self._model, recording[1], reply)
+        return reply
+
+    def _cached(self, recording: tuple[str, dict[str, Any]] | None) -> Reply | None:
+        """The cached reply to this request, if the client has a cache that holds it."""
+        if self._cache is None or recording is None:
+            return None
+        reply = self._cache.get(recording[0])
+        if reply is not None and not isinstance(reply, Reply):
+            raise InvalidArgumentError(
+                f"cache: get() must return a Reply or None, got {type(reply).__name__}"
+            )
         return reply
