@@ -1,5 +1,6 @@
-"""The ``audere`` command line: scenarios, checking solutions, plots.
+"""The ``audere`` command line: solve a task with the agent, run and report the benchmark, and more.
 
+``audere solve TASK``, ``audere bench run ...``, ``audere bench report DIR``, ``audere apis [NAME]``,
 ``audere scenarios list``, ``audere scenarios show NAME``, ``audere check TASK_FILE SOLUTION_FILE`` and
 ``audere --version``. Each command group is its own :class:`typer.Typer` added to :data:`app`, so new
 commands (``solve``, ``bench``) are added with ``app.add_typer(...)`` or ``@app.command()``.
@@ -34,7 +35,7 @@ __all__ = ["app", "main"]
 
 app = typer.Typer(
     name="audere",
-    help="Robot planning and control driven by language models: scenarios, checkers, plots.",
+    help="Robot planning and control driven by language models: solve, benchmark, scenarios, checkers.",
     no_args_is_help=True,
     add_completion=False,
     pretty_exceptions_enable=False,
@@ -44,6 +45,10 @@ scenarios_app = typer.Typer(
     help="The benchmark scenarios: list them, show one as a model sees it.", no_args_is_help=True
 )
 app.add_typer(scenarios_app, name="scenarios")
+bench_app = typer.Typer(
+    help="The benchmark: run the experiment grid (resumably), report its metrics.", no_args_is_help=True
+)
+app.add_typer(bench_app, name="bench")
 
 EXIT_FAILURE = 1
 """A checked solution does not solve its task."""
@@ -256,6 +261,336 @@ def _load_solution(path: Path) -> Any:
             f"got {type(content).__name__}"
         )
     return content
+
+
+# ---------------------------------------------------------------------------------------- solve
+
+
+class MethodName(StrEnum):
+    """The agent's methods."""
+
+    use_api = "use-api"
+    code = "code"
+    predict = "predict"
+
+
+class ProvisionName(StrEnum):
+    """How the APIs' documentation reaches the model."""
+
+    on_demand = "on-demand"
+    all = "all"
+
+
+def _show_event(out: Console, event: Any, *, show_code: bool) -> None:
+    from rich.syntax import Syntax
+
+    if event.kind == "task":
+        task = event.task
+        out.print(
+            f"[bold]task[/bold] {escape(task.name or task.kind)}: {escape(task.kind)}, "
+            f"dynamics {escape(str(task.dynamics or 'none (a point path)'))}"
+        )
+    elif event.kind == "call":
+        call = event.call
+        if call.error:
+            out.print(f"  [red]model call ({escape(call.purpose)}) failed: {escape(call.error)}[/red]")
+        else:
+            tools = ", ".join(name for name, _ in call.tool_calls)
+            how = f" -> {escape(tools)}" if tools else ""
+            out.print(
+                f"  [dim]model call ({escape(call.purpose)}){how}: "
+                f"{call.prompt_tokens}+{call.completion_tokens} tokens, {call.latency_s:.2f} s[/dim]"
+            )
+    elif event.kind == "round":
+        r = event.round
+        colour = "green" if r.category.value == "success" else "yellow"
+        apis = ", ".join(r.selected_apis) or "-"
+        called = ", ".join(r.apis_called) or "-"
+        out.print(
+            f"[bold]round {r.index}[/bold]: [{colour}]{escape(r.category.value)}[/{colour}]  "
+            f"selected: {escape(apis)}  called: {escape(called)}  ({r.wall_s:.2f} s)"
+        )
+        if show_code and r.code:
+            lines = r.code.splitlines()
+            shown = "\n".join(lines[:60]) + (
+                f"\n# ... {len(lines) - 60} more lines" if len(lines) > 60 else ""
+            )
+            out.print(Syntax(shown, "python", line_numbers=True, word_wrap=True))
+        if r.report is not None:
+            out.print(f"  check: {escape(r.report.summary())}")
+        elif r.feedback:
+            out.print(f"  {escape(r.feedback.splitlines()[0][:200])}")
+
+
+@app.command("solve")
+def solve(
+    task: Annotated[
+        str,
+        typer.Argument(
+            help="A scenario name (with --seed), a task file (.json/.yaml), or the task in words."
+        ),
+    ],
+    seed: Annotated[int | None, typer.Option("--seed", "-s", help="The scenario seed.")] = None,
+    model: Annotated[
+        str | None,
+        typer.Option(
+            "--model", "-m", help="A LiteLLM model string; default $AUDERE_MODEL, else the offline expert."
+        ),
+    ] = None,
+    method: Annotated[
+        MethodName, typer.Option("--method", help="use-api, or a baseline.")
+    ] = MethodName.use_api,
+    max_rounds: Annotated[int, typer.Option("--max-rounds", min=1, help="Most rounds.")] = 6,
+    temperature: Annotated[float, typer.Option("--temperature", "-t", min=0.0, max=2.0)] = 0.1,
+    provision: Annotated[ProvisionName, typer.Option("--provision")] = ProvisionName.on_demand,
+    timeout: Annotated[float, typer.Option("--timeout", min=0.1, help="Seconds per run of the code.")] = 30.0,
+    api_base: Annotated[str | None, typer.Option("--api-base", help="An OpenAI-compatible server.")] = None,
+    record: Annotated[
+        Path | None, typer.Option("--record", help="Append every model call to this cassette.")
+    ] = None,
+    cassette: Annotated[
+        Path | None, typer.Option("--cassette", help="Replay (with --model audere/replay).")
+    ] = None,
+    plot: Annotated[
+        Path | None, typer.Option("--plot", "-p", help="Draw the final trajectory.", dir_okay=False)
+    ] = None,
+    save: Annotated[
+        Path | None, typer.Option("--save", help="Write the whole result as JSON.", dir_okay=False)
+    ] = None,
+    html: Annotated[
+        Path | None, typer.Option("--html", help="Write a report page of every round.", dir_okay=False)
+    ] = None,
+    show_code: Annotated[bool, typer.Option("--code/--no-code", help="Print each round's code.")] = True,
+) -> None:
+    """Solve a task with the agent, showing each round as it happens; exit 0 when solved, 1 when not."""
+    from audere.agent import Agent
+
+    out = _stdout()
+    try:
+        agent = Agent(
+            task,
+            seed=seed,
+            model=model,
+            method=method.value,
+            max_rounds=max_rounds,
+            temperature=temperature,
+            api_provision=provision.value,
+            timeout_s=timeout,
+            api_base=api_base,
+            record=record,
+            cassette=cassette,
+            on_event=lambda event: _show_event(out, event, show_code=show_code),
+        )
+    except (AudereError, ValueError) as exc:
+        _fail(_one_line(exc))
+    out.print(f"[bold]model[/bold] {escape(agent.model_label)}  [bold]method[/bold] {method.value}")
+    result = agent.solve()
+    if result.task is not None and agent.task_text is not None:
+        out.print("[bold]the task as parsed from the text[/bold]:")
+        out.print(escape(result.task.describe()))
+    colour = "green" if result.success else "red"
+    out.print(f"[bold {colour}]{escape(result.summary())}[/bold {colour}]")
+    if save is not None:
+        result.save(save)
+        _stderr().print(f"wrote {escape(str(save))}")
+    if html is not None:
+        from audere.bench._report import experiment_html
+
+        html.write_text(experiment_html(result), encoding="utf-8")
+        _stderr().print(f"wrote {escape(str(html))}")
+    if plot is not None and result.task is not None:
+        last = result.rounds[-1] if result.rounds else None
+        solution = result.solution or (last.solution if last else None)
+        _save_plot(result.task, plot, solution=solution, report=result.report)
+    raise typer.Exit(0 if result.success else EXIT_FAILURE)
+
+
+# ---------------------------------------------------------------------------------------- apis
+
+
+@app.command("apis")
+def apis(
+    name: Annotated[
+        str | None, typer.Argument(help="An API: print its card (what a model reads first).")
+    ] = None,
+    source: Annotated[bool, typer.Option("--source", help="Print the implementation instead.")] = False,
+) -> None:
+    """List the registered APIs (the catalog a model chooses from), or print one's card or source."""
+    from audere.apis import api_card, api_source, list_apis
+
+    if name is None:
+        table = Table(box=box.SIMPLE_HEAD, pad_edge=False, header_style="bold")
+        table.add_column("name", style="bold cyan", no_wrap=True)
+        table.add_column("description", ratio=4)
+        table.add_column("tags", ratio=2)
+        for info in list_apis():
+            table.add_row(escape(info.name), escape(info.description), escape(", ".join(info.tags)))
+        out = _stdout()
+        if not out.is_terminal:
+            out.width = max(out.width, 120)
+        out.print(table)
+        return
+    try:
+        text = api_source(name) if source else api_card(name)
+    except AudereError as exc:
+        _fail(_one_line(exc))
+    typer.echo(text.rstrip("\n"))
+
+
+# ---------------------------------------------------------------------------------------- bench
+
+
+def _split(text: str) -> list[str]:
+    return [part.strip() for part in text.split(",") if part.strip()]
+
+
+@bench_app.command("run")
+def bench_run(
+    out_dir: Annotated[
+        Path, typer.Option("--out", "-o", help="The results directory (rerun to resume).")
+    ] = Path("bench-results"),
+    scenarios: Annotated[str, typer.Option("--scenarios", help="Comma-separated names, or 'all'.")] = "all",
+    methods: Annotated[str, typer.Option("--methods", help="Comma-separated: use-api, code, predict.")] = (
+        "use-api,code,predict"
+    ),
+    models: Annotated[
+        str | None,
+        typer.Option("--models", help="Comma-separated model strings; default $AUDERE_MODEL or the expert."),
+    ] = None,
+    temperatures: Annotated[str, typer.Option("--temperatures", help="Comma-separated.")] = "0.1",
+    seeds: Annotated[
+        str, typer.Option("--seeds", help="A count (100: seeds 0-99), a range (100-199), a list.")
+    ] = "100",
+    max_rounds: Annotated[int, typer.Option("--max-rounds", min=1)] = 6,
+    provision: Annotated[
+        str, typer.Option("--provision", help="Comma-separated: on-demand, all.")
+    ] = "on-demand",
+    timeout: Annotated[float, typer.Option("--timeout", min=0.1, help="Seconds per run of the code.")] = 30.0,
+    concurrency: Annotated[
+        int, typer.Option("--concurrency", "-j", min=1, help="Experiments in flight.")
+    ] = 2,
+    workers: Annotated[
+        int | None, typer.Option("--workers", min=1, help="Sandbox workers (default: cores).")
+    ] = None,
+    record: Annotated[
+        Path | None, typer.Option("--record", help="Append every model call to this cassette.")
+    ] = None,
+    cassette: Annotated[
+        Path | None, typer.Option("--cassette", help="Replay this cassette (with --models audere/replay).")
+    ] = None,
+    quiet: Annotated[bool, typer.Option("--quiet", "-q", help="No progress bar.")] = False,
+) -> None:
+    """Run the experiment grid; every finished experiment is written at once, so a rerun resumes."""
+    import os
+
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    from audere.agent._agent import DEFAULT_MODEL
+    from audere.bench import make_grid, parse_seeds, run_grid
+    from audere.scenarios import list_scenarios
+
+    try:
+        names = [i.name for i in list_scenarios()] if scenarios.strip() == "all" else _split(scenarios)
+        model_list = _split(models) if models else [os.environ.get("AUDERE_MODEL") or DEFAULT_MODEL]
+        grid = make_grid(
+            scenarios=names,
+            seeds=parse_seeds(seeds),
+            methods=_split(methods),
+            models=model_list,
+            temperatures=[float(t) for t in _split(temperatures)],
+            provisions=_split(provision),
+            max_rounds=max_rounds,
+            timeout_s=timeout,
+        )
+    except (AudereError, ValueError) as exc:
+        _fail(_one_line(exc))
+    err = _stderr()
+    if model_list == [DEFAULT_MODEL]:
+        err.print("no model configured: running the offline expert (a rule-based strategist, not an LLM)")
+    options = {
+        "scenarios": names,
+        "methods": _split(methods),
+        "models": model_list,
+        "seeds": seeds,
+        "temperatures": temperatures,
+        "provision": provision,
+        "max_rounds": max_rounds,
+    }
+    progress = Progress(
+        TextColumn("[bold]bench[/bold]"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TextColumn("solved {task.fields[solved]}"),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+        console=err,
+        disable=quiet,
+    )
+    with progress:
+        bar = progress.add_task("run", total=None, solved=0)
+        solved = 0
+
+        def tick(done: int, todo: int, record: dict[str, Any]) -> None:
+            nonlocal solved
+            solved += bool(record["success"])
+            progress.update(bar, completed=done, total=todo, solved=solved)
+
+        try:
+            summary = run_grid(
+                grid,
+                out_dir,
+                concurrency=concurrency,
+                workers=workers,
+                record=record,
+                cassette=cassette,
+                options=options,
+                progress=tick,
+            )
+        except AudereError as exc:
+            _fail(_one_line(exc))
+    _stdout().print(
+        f"{summary.total} experiments: {summary.skipped} already done, {summary.ran} run now "
+        f"({summary.solved} solved, {summary.errors} harness errors) in {summary.wall_s:.1f} s "
+        f"-> {escape(str(out_dir))}"
+    )
+    _stdout().print(f"report with: audere bench report {escape(str(out_dir))}")
+
+
+@bench_app.command("report")
+def bench_report(
+    results: Annotated[Path, typer.Argument(help="A results directory written by `audere bench run`.")],
+    out_dir: Annotated[
+        Path | None, typer.Option("--out", "-o", help="Where to write (default DIR/report).")
+    ] = None,
+    experiment: Annotated[
+        str | None,
+        typer.Option("--experiment", "-e", help="Also write the HTML page of this experiment's key."),
+    ] = None,
+) -> None:
+    """Tables (Markdown, CSV) and figures (PNG, SVG) of a run; the HTML page of one experiment."""
+    from audere.bench._report import write_experiment_html, write_report
+
+    if not results.is_dir():
+        _fail(f"{results}: not a results directory")
+    try:
+        report = write_report(results, out_dir)
+        page = write_experiment_html(results, experiment) if experiment else None
+    except AudereError as exc:
+        _fail(_one_line(exc))
+    typer.echo(report.markdown.rstrip("\n"))
+    err = _stderr()
+    for path in report.paths:
+        err.print(f"wrote {escape(str(path))}")
+    if page is not None:
+        err.print(f"wrote {escape(str(page))}")
 
 
 # ---------------------------------------------------------------------------------------- plots

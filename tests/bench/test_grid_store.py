@@ -103,7 +103,7 @@ def test_repair_cuts_only_a_torn_tail(tmp_path: Path) -> None:
 def test_malformed_middle_line_is_an_error(tmp_path: Path) -> None:
     path = tmp_path / RESULTS
     path.write_text('{"key": "a"}\nnot json\n{"key": "b"}\n')
-    with pytest.raises(AudereError, match="line 2 is not valid JSON"):
+    with pytest.raises(AudereError, match="line 2: expected a JSON object"):
         list(read_jsonl(path))
 
 

@@ -28,7 +28,15 @@ from typing import Any
 
 from audere.errors import AudereError, InvalidArgumentError
 
-__all__ = ["RESULTS", "TRANSCRIPTS", "ResponseCache", "ResultStore", "read_jsonl", "record_for"]
+__all__ = [
+    "RESULTS",
+    "TRANSCRIPTS",
+    "ResponseCache",
+    "ResultStore",
+    "iter_jsonl",
+    "read_jsonl",
+    "record_for",
+]
 
 RESULTS = "results.jsonl"
 TRANSCRIPTS = "transcripts.jsonl"
@@ -68,8 +76,62 @@ def _repair(path: Path) -> int:
         return size - keep
 
 
+def iter_jsonl(path: Path) -> Iterator[tuple[int, dict[str, Any]]]:
+    """Yield ``(line number, object)`` for each line of a JSON Lines file that a run appends to.
+
+    Blank lines are skipped. The last line may have been torn by a killed run: it is skipped when it
+    does not parse. Any other line that does not parse as a JSON object is an error.
+
+    Parameters
+    ----------
+    path
+        The file.
+
+    Yields
+    ------
+    tuple of (int, dict)
+        The 1-based line number and the object on it.
+
+    Raises
+    ------
+    AudereError
+        If a line other than the last is not a JSON object, naming the file and the line number.
+    """
+    pending: tuple[int, str] | None = None
+    with path.open("r", encoding="utf-8", errors="replace") as handle:
+        for number, line in enumerate(handle, start=1):
+            if not line.strip():
+                continue
+            if pending is not None:
+                yield _parse_line(path, *pending)
+            pending = (number, line)
+    if pending is not None:
+        number, line = pending
+        try:
+            value = json.loads(line)
+        except json.JSONDecodeError:
+            return  # torn by a killed run
+        if isinstance(value, dict):
+            yield number, value
+        else:
+            yield _parse_line(path, number, line)
+
+
+def _parse_line(path: Path, number: int, line: str) -> tuple[int, dict[str, Any]]:
+    try:
+        value = json.loads(line)
+    except json.JSONDecodeError as exc:
+        raise AudereError(
+            f"{path}: line {number}: expected a JSON object, got text that does not parse ({exc.msg} at "
+            f"column {exc.colno}): {line.strip()[:80]!r}"
+        ) from exc
+    if not isinstance(value, dict):
+        raise AudereError(f"{path}: line {number}: expected a JSON object, got {type(value).__name__}")
+    return number, value
+
+
 def read_jsonl(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
-    """The JSON objects of a JSONL file, a torn last line skipped.
+    """The JSON objects of a JSONL file (nothing for a missing file), a torn last line skipped.
 
     Raises
     ------
@@ -77,21 +139,9 @@ def read_jsonl(path: str | os.PathLike[str]) -> Iterator[dict[str, Any]]:
         For a malformed line that is not the last one (naming the file and the line).
     """
     file = Path(path)
-    if not file.exists():
-        return
-    lines = file.read_bytes().split(b"\n")
-    for number, raw in enumerate(lines, start=1):
-        if not raw.strip():
-            continue
-        try:
-            value = json.loads(raw)
-        except json.JSONDecodeError as error:
-            if number == len(lines):  # no newline after it: torn by a kill
-                return
-            raise AudereError(f"{file}: line {number} is not valid JSON ({error})") from None
-        if not isinstance(value, dict):
-            raise AudereError(f"{file}: line {number} is a {type(value).__name__}, expected an object")
-        yield value
+    if file.exists():
+        for _, value in iter_jsonl(file):
+            yield value
 
 
 def _append_line(path: Path, value: Mapping[str, Any], *, durable: bool) -> None:
