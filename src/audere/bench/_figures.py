@@ -238,7 +238,9 @@ def _grouped_bars(
             capsize=3 if error_bars else 0,
             error_kw={"elinewidth": 1.0, "ecolor": "#222222"},
         )
-    ax.set_xticks(range(len(xs)), [f"{x:g}" if isinstance(x, float) else str(x) for x in xs])
+    labels = [f"{x:g}" if isinstance(x, float) else str(x) for x in xs]
+    long = max((len(label) for label in labels), default=0) > 10 and len(labels) > 4
+    ax.set_xticks(range(len(xs)), labels, rotation=25 if long else 0, ha="right" if long else "center")
     ax.set_xlim(-0.6, len(xs) - 0.4)
     ax.grid(axis="y", alpha=0.3)
     ax.set_axisbelow(True)

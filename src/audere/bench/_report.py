@@ -50,6 +50,7 @@ __all__ = [
     "TRANSCRIPTS_FILE",
     "Report",
     "experiment_html",
+    "headline_markdown",
     "safe_key",
     "write_experiment_html",
     "write_report",
@@ -153,6 +154,42 @@ def _header(records: Sequence[Mapping[str, Any]], source: Path) -> str:
     return "\n".join(lines)
 
 
+def headline_markdown(rows: Sequence[Mapping[str, Any]]) -> str:
+    """A compact table of summary rows: who, success rate with its 95 % interval, rounds, calls.
+
+    Parameters
+    ----------
+    rows
+        Rows of :func:`audere.bench._metrics.summarize`.
+
+    Returns
+    -------
+    str
+        A Markdown table: scenario, method, model (and temperature and provision when they vary),
+        solved / counted, success rate [95 % CI], mean rounds to success, mean calls to success.
+    """
+    varying = [f for f in ("model", "temperature", "provision") if len({r.get(f) for r in rows}) > 1]
+    fields = ["scenario", "method", *varying]
+    head = [*fields, "solved", "success rate [95 % CI]", "rounds to success", "calls to success"]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(fields) + "---:|---:|---:|---:|"]
+
+    def mean(value: Any) -> str:
+        return "–" if value is None else f"{value:.2f}"
+
+    for row in rows:
+        rate = row.get("success_rate")
+        interval = (
+            "–"
+            if rate is None
+            else f"{100 * rate:.0f} % [{100 * row['ci_low']:.0f}, {100 * row['ci_high']:.0f}]"
+        )
+        cells = [str(row.get(f)) for f in fields]
+        cells += [f"{row['solved']}/{row['n']}", interval, mean(row.get("mean_rounds_to_success"))]
+        cells.append(mean(row.get("mean_calls_to_success")))
+        lines.append("| " + " | ".join(cells) + " |")
+    return "\n".join(lines) + "\n"
+
+
 def write_report(results_dir: str | Path, out_dir: str | Path | None = None) -> Report:
     """Write the report of a benchmark run: tables and figures.
 
@@ -214,7 +251,13 @@ def write_report(results_dir: str | Path, out_dir: str | Path | None = None) -> 
         figures += files
         shown.append(f"![{caption}](figures/{files[0].name})")
 
-    markdown = _header(records, results_file) + format_markdown(rows)
+    markdown = (
+        _header(records, results_file)
+        + "## At a glance\n\n"
+        + headline_markdown(rows)
+        + "\n## Every metric\n\n"
+        + format_markdown(rows)
+    )
     if shown:
         markdown += "\n## Figures\n\n" + "\n\n".join(shown) + "\n"
     summary_md = target / "summary.md"
