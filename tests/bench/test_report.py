@@ -109,9 +109,9 @@ def test_write_report_writes_tables_and_figures(tmp_path: Path) -> None:
     assert "| model | `openai/gpt-4o` |" in text
     assert "![Error categories](figures/errors.png)" in text
     assert "temperature.png" not in text
-    table = [line for line in text.splitlines() if line.startswith("| track-lin | use-api |")]
-    assert len(table) == 1
-    assert "| 3 | 1 | 2 | 0.6667 |" in table[0]  # n, n_infra, solved, success_rate
+    headline, full = [line for line in text.splitlines() if line.startswith("| track-lin | use-api |")]
+    assert headline == "| track-lin | use-api | 2/3 | 67 % [21, 94] | 2.00 | 3.00 |"  # the glance table
+    assert "| 3 | 1 | 2 | 0.6667 |" in full  # n, n_infra, solved, success_rate
 
     summary = (run / "report" / "summary.csv").read_text(encoding="utf-8").splitlines()
     assert summary[0].startswith("scenario,method,model,temperature,provision,n,n_infra,solved,success_rate")
