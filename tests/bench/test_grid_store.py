@@ -142,3 +142,21 @@ def test_response_cache_round_trip(tmp_path: Path) -> None:
     assert again.get("k") == reply
     assert again.hits == 1
     assert os.path.getsize(tmp_path / "responses.jsonl") > 0
+
+
+def test_load_results_gives_one_row_per_experiment(tmp_path: Path) -> None:
+    pytest.importorskip("pandas")
+    from audere.bench import load_results
+
+    with ResultStore(tmp_path) as store:
+        for key, seed in (("a", 0), ("b", 1)):
+            store.append(
+                {**_record(key), "scenario": "track-lin", "seed": seed, "categories": ["success"]}, None
+            )
+    with open(tmp_path / RESULTS, "a") as handle:  # a duplicate line (never written by the store)
+        handle.write(json.dumps({**_record("a"), "seed": 99}) + "\n")
+    frame = load_results(tmp_path)
+    assert list(frame["key"]) == ["a", "b"]
+    assert list(frame["seed"]) == [0, 1]
+    assert {"scenario", "status", "success", "categories"} <= set(frame.columns)
+    assert len(load_results(tmp_path / RESULTS)) == 2
