@@ -4,6 +4,8 @@
 - :func:`run_grid`, :class:`LocalRunner`, :class:`Runner`, :class:`ExecutorPool`: running it (the
   runner is a seam: a distributed engine plugs in as another :class:`Runner`);
 - :class:`ResultStore`, :class:`ResponseCache`: the append-only results directory;
+- :func:`read_records`, :func:`summarize`, :func:`success_at_k`, :func:`wilson_interval`: metrics;
+- :func:`write_report`, :func:`experiment_html`, :func:`write_experiment_html`: tables, figures, pages;
 - :func:`load_results`: the records as a pandas DataFrame, one row per experiment.
 
 The command line is ``audere bench run ...`` and ``audere bench report DIR``.
@@ -15,6 +17,8 @@ import os
 from typing import Any
 
 from audere.bench._grid import METHODS, PROVISIONS, Experiment, make_grid, parse_seeds
+from audere.bench._metrics import read_records, success_at_k, summarize, wilson_interval
+from audere.bench._report import Report, experiment_html, write_experiment_html, write_report
 from audere.bench._runner import ExecutorPool, LocalRunner, Runner, RunSummary, run_grid
 from audere.bench._store import ResponseCache, ResultStore, read_jsonl
 
@@ -24,15 +28,23 @@ __all__ = [
     "ExecutorPool",
     "Experiment",
     "LocalRunner",
+    "Report",
     "ResponseCache",
     "ResultStore",
     "RunSummary",
     "Runner",
+    "experiment_html",
     "load_results",
     "make_grid",
     "parse_seeds",
     "read_jsonl",
+    "read_records",
     "run_grid",
+    "success_at_k",
+    "summarize",
+    "wilson_interval",
+    "write_experiment_html",
+    "write_report",
 ]
 
 
