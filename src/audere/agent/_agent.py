@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import asyncio
 import atexit
+import logging
 import os
+import sys
 import threading
 import time
 from collections.abc import Callable, Generator
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
@@ -16,7 +19,9 @@ from audere.agent._result import SolveResult, SolveStatus
 from audere.agent.prompts import PROMPT_VERSION
 from audere.errors import InvalidArgumentError
 
-__all__ = ["DEFAULT_MODEL", "Agent", "Method", "hidden_modules"]
+__all__ = ["DEFAULT_MODEL", "Agent", "Method", "SandboxSetup", "hidden_modules", "sandbox_setup"]
+
+_log = logging.getLogger(__name__)
 
 Method = Literal["use-api", "code", "predict"]
 Provision = Literal["on-demand", "all"]
@@ -30,21 +35,83 @@ _TASK_SUFFIXES = (".json", ".yaml", ".yml")
 # the code baseline writes its own solver: the registry, planners and controllers are hidden from it
 _CODE_HIDDEN = ("audere.apis", "audere.planners", "audere.controllers")
 
-_executors: dict[tuple[str, ...], Any] = {}
+_executors: dict[SandboxSetup, Any] = {}
 _executors_lock = threading.Lock()
 
 
-def _shared_executor(hidden: tuple[str, ...]) -> Any:
-    """One warm sandbox per set of hidden modules, shared by every agent of this process."""
+def _shared_executor(setup: SandboxSetup) -> Any:
+    """One warm sandbox per set-up, shared by every agent of this process."""
     from audere.agent.sandbox import SandboxExecutor
 
     with _executors_lock:
-        executor = _executors.get(hidden)
+        executor = _executors.get(setup)
         if executor is None:
-            executor = _executors[hidden] = SandboxExecutor(hidden=hidden)
+            executor = _executors[setup] = SandboxExecutor(
+                hidden=setup.hidden, preload=setup.preload, paths=setup.paths
+            )
             if len(_executors) == 1:
                 atexit.register(_close_executors)
         return executor
+
+
+@dataclass(frozen=True)
+class SandboxSetup:
+    """What the sandbox of a method imports, hides and may read."""
+
+    hidden: tuple[str, ...]
+    preload: tuple[str, ...]
+    paths: tuple[str, ...]
+
+
+def sandbox_setup(method: str) -> SandboxSetup:
+    """The sandbox set-up for ``method``: audere's APIs, and the modules of APIs you registered.
+
+    An API registered from a module file (``my_planners.py``, a package) is imported in the sandbox
+    too, with the directory holding it readable there, so that the model's code can call it. An API
+    defined in ``__main__`` (a script, a notebook cell) cannot be: it is left out, with a warning in
+    the log.
+    """
+    from audere.agent.sandbox import DEFAULT_PRELOAD
+
+    hidden = hidden_modules(method)
+    if method.replace("-", "_") == "code":
+        return SandboxSetup(hidden=hidden, preload=tuple(DEFAULT_PRELOAD), paths=())
+    modules, paths = _user_api_modules()
+    return SandboxSetup(hidden=hidden, preload=(*DEFAULT_PRELOAD, *modules), paths=paths)
+
+
+def _user_api_modules() -> tuple[tuple[str, ...], tuple[str, ...]]:
+    from audere.agent.sandbox._harden import broad_dirs
+    from audere.apis import list_apis
+
+    modules: list[str] = []
+    paths: list[str] = []
+    for info in list_apis():
+        name = str(getattr(info.function, "__module__", "") or "")
+        if name == "audere" or name.startswith("audere.") or name in modules:
+            continue
+        top = sys.modules.get(name.partition(".")[0])
+        top_file = getattr(top, "__file__", None)
+        if name == "__main__" or not top_file:
+            _log.warning(
+                "the API %r is defined in %s, which the sandbox cannot import; put it in a module file",
+                info.name,
+                name or "an unknown module",
+            )
+            continue
+        location = Path(top_file).resolve()
+        root = location.parent.parent if location.name == "__init__.py" else location.parent
+        if str(root) in broad_dirs():
+            _log.warning(
+                "the API %r lives directly in %s, too broad a directory to expose to the sandbox; "
+                "put its module in a directory of its own",
+                info.name,
+                root,
+            )
+            continue
+        modules.append(name)
+        paths.append(str(root))
+    return tuple(modules), tuple(dict.fromkeys(paths))
 
 
 def _close_executors() -> None:
@@ -328,7 +395,7 @@ class Agent:
     def _executor_for(self, method: str) -> Any:
         if self._executor is not None:
             return self._executor
-        return _shared_executor(hidden_modules(method))
+        return _shared_executor(sandbox_setup(method))
 
     def _steps(self) -> Generator[Any, Any, SolveResult]:
         started = time.monotonic()

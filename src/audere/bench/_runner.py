@@ -46,14 +46,14 @@ class ExecutorPool:
     ----------
     size
         Number of sandbox supervisors (each started on first use).
-    hidden
-        Modules the code cannot import (see :func:`audere.agent._agent.hidden_modules`).
+    setup
+        What the sandbox imports, hides and may read (:func:`audere.agent._agent.sandbox_setup`).
     """
 
-    def __init__(self, size: int, *, hidden: Sequence[str]) -> None:
+    def __init__(self, size: int, *, setup: Any) -> None:
         if isinstance(size, bool) or not isinstance(size, int) or size < 1:
             raise InvalidArgumentError(f"size: expected a positive integer, got {size!r}")
-        self._hidden = tuple(hidden)
+        self._setup = setup
         self._free: queue.Queue[Any] = queue.Queue()
         self._all: list[Any] = []
         self._lock = threading.Lock()
@@ -65,7 +65,9 @@ class ExecutorPool:
 
         with self._lock:
             if self._free.empty() and len(self._all) < self._size:
-                executor = SandboxExecutor(hidden=self._hidden)
+                executor = SandboxExecutor(
+                    hidden=self._setup.hidden, preload=self._setup.preload, paths=self._setup.paths
+                )
                 self._all.append(executor)
                 return executor
         return self._free.get()
@@ -130,15 +132,15 @@ class LocalRunner:
         self.cache = cache
         self.record = record
         self.cassette = cassette
-        self._pools: dict[tuple[str, ...], ExecutorPool] = {}
+        self._pools: dict[Any, ExecutorPool] = {}
 
     def _pool(self, method: str) -> ExecutorPool:
-        from audere.agent._agent import hidden_modules
+        from audere.agent._agent import sandbox_setup
 
-        hidden = hidden_modules(method)
-        if hidden not in self._pools:
-            self._pools[hidden] = ExecutorPool(self.workers, hidden=hidden)
-        return self._pools[hidden]
+        setup = sandbox_setup(method)
+        if setup not in self._pools:
+            self._pools[setup] = ExecutorPool(self.workers, setup=setup)
+        return self._pools[setup]
 
     def run(self, experiments: Sequence[Experiment], on_result: OnResult) -> None:
         """Run ``experiments`` with at most ``concurrency`` in flight; report each as it finishes."""
