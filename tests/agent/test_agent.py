@@ -338,3 +338,37 @@ def test_hostile_and_crashing_code_becomes_a_round(scripted: list[ScriptedModel]
     assert second is ErrorCategory.RUNTIME
     assert "SIGSEGV" in result.rounds[1].feedback
     assert 'File "<agent_code>", line 4' in result.rounds[1].feedback
+
+
+def test_code_with_an_apis_header_is_a_submission(scripted: list[ScriptedModel]) -> None:
+    model = script(
+        scripted,
+        text("APIs: rrt"),
+        code_reply(STRAIGHT_LINE, plan="APIs: rrt\nPlan: a straight line first."),  # repeats the APIs line
+        code_reply(RRT_CODE, plan="APIs: rrt\nPlan: rrt after all."),
+    )
+    result = Agent("plan-easy", seed=16, model=model.model, tool_calls=False).solve()
+    assert result.categories == [ErrorCategory.TASK_FAILURE, ErrorCategory.SUCCESS]
+    assert [len(r.calls) for r in result.rounds] == [2, 1]
+
+
+def test_each_call_records_the_prompt_it_was_sent(scripted: list[ScriptedModel]) -> None:
+    model = script(
+        scripted,
+        tool("select_apis", apis=["rrt"]),
+        OfflineReply(  # two tool calls at once: the feedback answers the first, the second is ignored
+            tool_calls=(
+                ("submit_code", json.dumps({"code": STRAIGHT_LINE})),
+                ("select_apis", '{"apis": ["rrt"]}'),
+            )
+        ),
+        tool("submit_code", code=RRT_CODE),
+    )
+    result = Agent("plan-easy", seed=17, model=model.model, tool_calls=True).solve()
+    assert result.success, str(result)
+    select, code, revise = result.calls
+    assert select.prompt.startswith(model.requests[0].messages[0]["content"][:40])  # the system prompt first
+    assert code.prompt.startswith("# Step 2 of 2")
+    assert revise.prompt.startswith("# Round 2 of 6")
+    assert "Ignored: make one tool call at a time." in revise.prompt
+    assert model.requests[2].messages[-2]["role"] == model.requests[2].messages[-1]["role"] == "tool"

@@ -1,4 +1,4 @@
-"""The examples of docs/viz.md run in order (later blocks use names from earlier ones) and write their files."""
+"""The examples of docs/viz.md run in order (later blocks use names from earlier ones), writing files."""
 
 from __future__ import annotations
 

@@ -356,6 +356,13 @@ def _selection(reply: Any, config: LoopConfig) -> list[str] | None:
     return valid
 
 
+def _has_code(reply: Any) -> bool:
+    """Whether a reply submits code (a ``submit_code`` call or a fenced python block)."""
+    if any(call.name == "submit_code" for call in reply.tool_calls):
+        return True
+    return _parse.extract_code(reply.content or "") is not None
+
+
 def _code(reply: Any) -> tuple[str | None, str]:
     """The plan and code of a reply (tool call ``submit_code`` or a fenced block)."""
     content, args = _reading(reply, "submit_code")
@@ -508,7 +515,8 @@ def _use_reply(
     """Act on one reply: a new stage to continue the round in, or the round's category and feedback."""
     suffix = "tool" if config.tool_mode else "text"
     if config.method == "use_api" and stage != "predict":
-        choice = _selection(reply, config)
+        # once the APIs are chosen, a reply with code is a submission, even if it repeats an APIs line
+        choice = None if stage != "select" and _has_code(reply) else _selection(reply, config)
         if choice is not None:
             state.selected = choice
             text = render(
@@ -558,11 +566,11 @@ def solve_loop(
     ]
     rounds: list[Round] = []
     selected: list[str] = []
+    since = 0  # where the messages new to the next call begin (what it records as its prompt)
     for index in range(1, config.max_rounds + 1):
         started = time.monotonic()
         state = _RoundState(selected=list(selected))
         fields: dict[str, Any] = {}
-        since = 0 if index == 1 else len(messages) - 1
         outcome: tuple[ErrorCategory, str] | None = None
         for _ in range(_MAX_CALLS_PER_ROUND):
             tools = _tools_for(stage, task, config) if config.tool_mode else None
@@ -595,6 +603,7 @@ def solve_loop(
         if category is ErrorCategory.SUCCESS or index == config.max_rounds:
             break
         text, stage = _revise_prompt(task, config, suffix, index + 1, category, feedback, bool(selected))
+        since = len(messages)
         _send(messages, text)
     return rounds, False
 
@@ -624,8 +633,8 @@ def parse_loop(
     state = _RoundState()
     tools = [parse_tool()] if tool_mode else None
     problem = "no attempt made"
+    since = 0
     for attempt in range(1, attempts + 1):
-        since = 0 if attempt == 1 else len(messages) - 1
         reply = yield from _call(state, messages, tools, "parse", since, config)
         if isinstance(reply, Exception):
             return None, state.calls, f"the model failed while reading the task: {reply}"
@@ -644,6 +653,7 @@ def parse_loop(
         else:
             return task, state.calls, f"parsed a {task.kind} task in {attempt} attempt(s)"
         if attempt < attempts:
+            since = len(messages)
             _send(
                 messages,
                 render(
