@@ -1,7 +1,7 @@
 """bubblewrap (``bwrap``): probe and command line for running the sandbox supervisor in namespaces.
 
-Imported inside the sandbox supervisor: only the standard library (and :mod:`audere.errors`) is
-imported at module load.
+Imported inside the sandbox supervisor: only the standard library, :mod:`audere.errors` and the
+hardening module (stdlib-only too, whose path checks and probe settings it shares) load with it.
 
 The sandbox built by :func:`bwrap_argv`: every namespace unshared (network with only ``lo``, pids,
 IPC, UTS, cgroup, user), all capabilities dropped, the root filesystem read-only, sized tmpfs over
@@ -20,6 +20,7 @@ import shutil
 import subprocess
 from collections.abc import Sequence
 
+from audere.agent.sandbox._harden import _PROBE_ENV, _PROBE_TIMEOUT_S, _check_paths
 from audere.errors import InvalidArgumentError, MissingDependencyError
 
 __all__ = ["bwrap_argv", "bwrap_path", "bwrap_status"]
@@ -27,8 +28,6 @@ __all__ = ["bwrap_argv", "bwrap_path", "bwrap_status"]
 # Directories replaced by an empty tmpfs inside the sandbox; the first three always, the others when
 # they exist as real directories on the host.
 _HIDDEN_ROOTS = ("/root", "/home", "/tmp", "/var/tmp", "/run")
-_PROBE_TIMEOUT_S = 10.0
-_PROBE_ENV = {"PATH": "/usr/local/bin:/usr/bin:/bin:/usr/sbin:/sbin", "LC_ALL": "C.UTF-8"}
 
 
 def bwrap_path() -> str | None:
@@ -45,19 +44,6 @@ def bwrap_path() -> str | None:
 
 def _beneath(path: str, root: str) -> bool:
     return path == root or path.startswith(root.rstrip("/") + "/")
-
-
-def _check_paths(field: str, paths: Sequence[str]) -> list[str]:
-    if isinstance(paths, str | bytes):
-        raise InvalidArgumentError(
-            f"{field}: expected a sequence of absolute paths, got the string {paths!r}"
-        )
-    out = []
-    for path in paths:
-        if not isinstance(path, str) or not os.path.isabs(path):
-            raise InvalidArgumentError(f"{field}: expected absolute paths, got {path!r}")
-        out.append(os.path.normpath(path))
-    return out
 
 
 def _hidden_roots() -> list[str]:

@@ -254,7 +254,7 @@ def _check_paths(field: str, paths: Sequence[str]) -> list[str]:
     for path in paths:
         if not isinstance(path, str) or not os.path.isabs(path):
             raise InvalidArgumentError(f"{field}: expected absolute paths, got {path!r}")
-        checked.append(path)
+        checked.append(os.path.normpath(path))
     return checked
 
 
