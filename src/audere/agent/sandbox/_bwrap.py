@@ -20,7 +20,13 @@ import shutil
 import subprocess
 from collections.abc import Sequence
 
-from audere.agent.sandbox._harden import _PROBE_ENV, _PROBE_TIMEOUT_S, _check_paths
+from audere.agent.sandbox._harden import (
+    _PROBE_ENV,
+    _PROBE_TIMEOUT_S,
+    _check_paths,
+    _last_line,
+    _run_probe,
+)
 from audere.errors import InvalidArgumentError, MissingDependencyError
 
 __all__ = ["bwrap_argv", "bwrap_path", "bwrap_status"]
@@ -176,29 +182,10 @@ def bwrap_status() -> tuple[bool, str]:
         if executable is None:
             return False, "bwrap not found on PATH (apt-get install bubblewrap)"
         true = shutil.which("true", path=_PROBE_ENV["PATH"]) or "/bin/true"
-        result = subprocess.run(
-            [*bwrap_argv(bind_rw=(), ro_paths=()), true],
-            stdin=subprocess.DEVNULL,
-            capture_output=True,
-            text=True,
-            timeout=_PROBE_TIMEOUT_S,
-            env=_PROBE_ENV,
-            close_fds=True,
-            check=False,
-        )
-        if result.returncode != 0:
-            lines = [line for line in result.stderr.splitlines() if line.strip()]
-            reason = lines[-1].strip() if lines else "no message"
-            return False, f"bwrap probe failed (exit {result.returncode}): {reason}"
-        version = subprocess.run(
-            [executable, "--version"],
-            stdin=subprocess.DEVNULL,
-            capture_output=True,
-            text=True,
-            timeout=_PROBE_TIMEOUT_S,
-            env=_PROBE_ENV,
-            check=False,
-        ).stdout.strip()
+        code, _, stderr = _run_probe([*bwrap_argv(bind_rw=(), ro_paths=()), true])
+        if code != 0:
+            return False, f"bwrap probe failed (exit {code}): {_last_line(stderr) or 'no message'}"
+        version = _run_probe([executable, "--version"])[1].strip()
         return True, f"{executable} ({version})" if version else executable
     except subprocess.TimeoutExpired:
         return False, f"bwrap probe timed out after {_PROBE_TIMEOUT_S:g} s"
